@@ -1,0 +1,45 @@
+//! Build-time work: embed the spectral data files of `spectra/` into the binary (so `prism` runs
+//! from anywhere) and fit the RGB-to-spectrum coefficient table from those data.
+
+use std::env;
+use std::fmt::Write as _;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+fn main() {
+    let root = PathBuf::from(env::var("CARGO_MANIFEST_DIR").unwrap());
+    let out = PathBuf::from(env::var("OUT_DIR").unwrap());
+    println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-changed=spectra");
+    embed_spectra(&root.join("spectra"), &out.join("spectra_files.rs"));
+}
+
+/// Writes `spectra_files.rs`: `pub static FILES: &[(&str, &str)]`, each entry a path relative to
+/// `spectra/` without its `.txt` extension (e.g. `illuminants/D65`) and the file's text.
+fn embed_spectra(dir: &Path, out: &Path) {
+    let mut files = Vec::new();
+    collect_txt(dir, dir, &mut files);
+    files.sort();
+    let mut code = String::from("pub static FILES: &[(&str, &str)] = &[\n");
+    for (key, path) in &files {
+        println!("cargo:rerun-if-changed={}", path.display());
+        writeln!(code, "    ({key:?}, include_str!({:?})),", path.display().to_string()).unwrap();
+    }
+    code.push_str("];\n");
+    fs::write(out, code).unwrap();
+}
+
+fn collect_txt(root: &Path, dir: &Path, files: &mut Vec<(String, PathBuf)>) {
+    let mut entries: Vec<_> = fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    entries.sort();
+    for path in entries {
+        if path.is_dir() {
+            println!("cargo:rerun-if-changed={}", path.display());
+            collect_txt(root, &path, files);
+        } else if path.extension().is_some_and(|e| e == "txt") {
+            let rel = path.strip_prefix(root).unwrap().with_extension("");
+            let key = rel.to_string_lossy().replace('\\', "/");
+            files.push((key, path));
+        }
+    }
+}

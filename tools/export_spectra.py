@@ -1,0 +1,118 @@
+"""Regenerate prism's spectral data files (`spectra/`) from colour-science.
+
+Run: `tools/.venv/bin/python tools/export_spectra.py` (needs colour-science 0.4.7; mitsuba 3.9.1 only
+for the 785-830 nm tail of CIE D65, which colour-science truncates at 780 nm).
+
+Every file is plain text: `#` comment lines (source, units), one header line naming the columns,
+then one row per wavelength in nm. prism embeds these files at build time.
+"""
+
+from __future__ import annotations
+
+import pathlib
+
+import colour
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent / "spectra"
+COLOUR = f"colour-science {colour.__version__}"
+
+
+def write(path: pathlib.Path, source: str, columns: list[str], wl: np.ndarray, values: np.ndarray) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    values = np.atleast_2d(values.T).T if values.ndim == 1 else values
+    lines = [f"# {line}" for line in source.strip().splitlines()]
+    lines.append(" ".join(["nm", *columns]))
+    for w, row in zip(wl, values):
+        lines.append(" ".join([f"{w:g}", *(f"{v:.9g}" for v in row)]))
+    path.write_text("\n".join(lines) + "\n")
+    print(f"wrote {path.relative_to(ROOT.parent)} ({len(wl)} rows)")
+
+
+def export_cmfs() -> None:
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    write(
+        ROOT / "cmf" / "CIE1931_2deg.txt",
+        f"CIE 1931 2 degree standard observer colour-matching functions, 1 nm, 360-830 nm.\n"
+        f"Source: {COLOUR}, MSDS_CMFS['CIE 1931 2 Degree Standard Observer'] (CIE 018:2019 / CVRL).\n"
+        "Units: dimensionless.",
+        ["x", "y", "z"],
+        cmfs.wavelengths,
+        cmfs.values,
+    )
+
+
+def d65_full() -> tuple[np.ndarray, np.ndarray]:
+    """CIE D65 300-830 nm at 5 nm: colour-science's table to 780 nm, then the CIE values to 830 nm."""
+    d65 = colour.SDS_ILLUMINANTS["D65"]
+    wl = np.arange(300, 831, 5, dtype=float)
+    vals = [d65[w] for w in wl if w <= 780]
+    import mitsuba as mi  # only for the CIE S 014-2 tail (785-830 nm) that colour-science omits
+
+    mi.set_variant("scalar_spectral")
+    vals += [mi.cie_d65(float(w)) / mi.MI_CIE_D65_NORMALIZATION for w in wl if w > 780]
+    return wl, np.array(vals)
+
+
+def export_illuminants() -> None:
+    out = ROOT / "illuminants"
+    wl, d65 = d65_full()
+    write(
+        out / "D65.txt",
+        "CIE standard illuminant D65, relative spectral power (100 at 560 nm), 300-830 nm, 5 nm.\n"
+        f"Source: {COLOUR} SDS_ILLUMINANTS['D65'] for 300-780 nm; 785-830 nm from CIE S 014-2\n"
+        "as tabulated in Mitsuba 3.9.1 (mi.cie_d65 / MI_CIE_D65_NORMALIZATION).",
+        ["value"],
+        wl,
+        d65,
+    )
+    shape = colour.SpectralShape(300, 830, 5)
+    a = colour.sd_CIE_standard_illuminant_A(shape)
+    write(
+        out / "A.txt",
+        "CIE standard illuminant A (Planckian, 2856 K, c2 = 1.435e-2 m K), relative, 100 at 560 nm.\n"
+        f"Source: {COLOUR} sd_CIE_standard_illuminant_A (CIE 015:2018 eq. 2.1).",
+        ["value"],
+        a.wavelengths,
+        a.values,
+    )
+    write(
+        out / "E.txt",
+        "CIE equal-energy illuminant E: constant 100.",
+        ["value"],
+        np.array([300.0, 830.0]),
+        np.array([100.0, 100.0]),
+    )
+    # D50, D55, D75: colour's CIE tables stop at 780 nm; the D-series basis (S0, S1, S2) reaches
+    # 830 nm, so the whole curve comes from CIE 015:2018 eq. 4.9-4.11 at each one's CIE xy.
+    xy = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]
+    for name in ("D50", "D55", "D60", "D75"):
+        sd = colour.sd_CIE_illuminant_D_series(xy[name])
+        table = colour.SDS_ILLUMINANTS.get(name)
+        wl = sd.wavelengths
+        vals = np.array([table[w] if table is not None and w <= table.wavelengths[-1] else sd[w] for w in wl])
+        write(
+            out / f"{name}.txt",
+            f"CIE illuminant {name}, relative spectral power (100 at 560 nm), 300-830 nm, 5 nm.\n"
+            f"Source: {COLOUR} SDS_ILLUMINANTS['{name}'] (CIE tables) where present; the remaining\n"
+            "wavelengths from the CIE D-series basis (sd_CIE_illuminant_D_series at the CIE xy).",
+            ["value"],
+            wl,
+            vals,
+        )
+    keys = [k for k in colour.SDS_ILLUMINANTS if k.startswith(("FL", "HP", "LED-"))]
+    for key in sorted(keys):
+        sd = colour.SDS_ILLUMINANTS[key]
+        write(
+            out / f"{key}.txt",
+            f"CIE illuminant {key}, relative spectral power.\n"
+            f"Source: {COLOUR} SDS_ILLUMINANTS['{key}'] (CIE 015:2018 tables).",
+            ["value"],
+            sd.wavelengths,
+            sd.values,
+        )
+
+
+if __name__ == "__main__":
+    export_cmfs()
+    export_illuminants()
