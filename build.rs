@@ -12,6 +12,33 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=spectra");
     embed_spectra(&root.join("spectra"), &out.join("spectra_files.rs"));
+    fit_rgb_table(&root, &out);
+}
+
+// `rgb2spec_fit.rs` refers to its sibling as `super::table`, as in the crate; mirroring
+// `crate::spectrum` here makes that path resolve. Only part of their API is used by the build.
+#[allow(dead_code)]
+#[path = "src/spectrum"]
+mod spectrum {
+    pub mod rgb2spec_fit;
+    pub mod table;
+}
+
+/// Fits the sRGB sigmoid coefficient table (Jakob & Hanika 2019) from the CIE data in `spectra/`
+/// and writes it to `srgb_sigmoid.bin`, which `src/spectrum/rgb2spec.rs` embeds.
+fn fit_rgb_table(root: &Path, out: &Path) {
+    use spectrum::rgb2spec_fit::{fit_table, FitData};
+    for src in ["src/spectrum/rgb2spec_fit.rs", "src/spectrum/table.rs"] {
+        println!("cargo:rerun-if-changed={}", root.join(src).display());
+    }
+    let read = |rel: &str| {
+        let path = root.join("spectra").join(rel);
+        fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    };
+    let data = FitData::from_texts(&read("cmf/CIE1931_2deg.txt"), &read("illuminants/D65.txt"))
+        .unwrap_or_else(|e| panic!("RGB uplifting data: {e}"));
+    let table = fit_table(&data, 64);
+    fs::write(out.join("srgb_sigmoid.bin"), table.to_bytes()).unwrap();
 }
 
 /// Writes `spectra_files.rs`: `pub static FILES: &[(&str, &str)]`, each entry a path relative to
@@ -23,14 +50,22 @@ fn embed_spectra(dir: &Path, out: &Path) {
     let mut code = String::from("pub static FILES: &[(&str, &str)] = &[\n");
     for (key, path) in &files {
         println!("cargo:rerun-if-changed={}", path.display());
-        writeln!(code, "    ({key:?}, include_str!({:?})),", path.display().to_string()).unwrap();
+        writeln!(
+            code,
+            "    ({key:?}, include_str!({:?})),",
+            path.display().to_string()
+        )
+        .unwrap();
     }
     code.push_str("];\n");
     fs::write(out, code).unwrap();
 }
 
 fn collect_txt(root: &Path, dir: &Path, files: &mut Vec<(String, PathBuf)>) {
-    let mut entries: Vec<_> = fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut entries: Vec<_> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     entries.sort();
     for path in entries {
         if path.is_dir() {

@@ -1,2 +1,24 @@
 //! prism: a spectral path tracer for physically based dataset generation.
+//!
+//! Data flows one way: `config` (RON) → `scene` (render-ready) → `integrator` → `film` →
+//! `output` files.
+
+pub mod accel;
+pub mod bsdf;
+pub mod camera;
+pub mod cli;
+pub mod config;
+pub mod emitter;
+pub mod error;
+pub mod film;
+pub mod filter;
+pub mod integrator;
+pub mod interaction;
+pub mod math;
+pub mod output;
+pub mod ray;
+pub mod sampler;
+pub mod scene;
+pub mod sensor;
+pub mod shape;
 pub mod spectrum;

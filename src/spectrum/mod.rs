@@ -1,2 +1,15 @@
-//! Spectra: sampled values along a path's wavelengths, and the data they come from.
+//! Spectra: values at a path's wavelengths (`Spectrum<N>`), how those wavelengths are drawn,
+//! and the continuous spectra (`Curve`) they are evaluated from.
+
+pub mod color;
+pub mod curve;
+pub mod data;
+pub mod rgb2spec;
+pub mod rgb2spec_fit;
+pub mod sampled;
 pub mod table;
+pub mod wavelengths;
+
+pub use curve::Curve;
+pub use sampled::Spectrum;
+pub use wavelengths::{WavelengthSampler, WavelengthSampling, Wavelengths};

@@ -40,7 +40,10 @@ impl std::error::Error for TableError {}
 impl Table {
     /// The values of the column called `name`.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
-        self.columns.iter().position(|c| c == name).map(|i| self.values[i].as_slice())
+        self.columns
+            .iter()
+            .position(|c| c == name)
+            .map(|i| self.values[i].as_slice())
     }
 
     /// Linear interpolation of column `c` at `nm`; 0 outside the tabulated range.
@@ -72,11 +75,16 @@ pub fn parse(text: &str) -> Result<Table, TableError> {
             .split(|c: char| c.is_whitespace() || c == ',' || c == ';')
             .filter(|f| !f.is_empty())
             .collect();
-        let err = |message: String| TableError { line: line_no, message };
+        let err = |message: String| TableError {
+            line: line_no,
+            message,
+        };
         if columns.is_none() {
             if fields[0].parse::<f64>().is_err() {
                 if fields.len() < 2 {
-                    return Err(err("the header needs `nm` and at least one column name".into()));
+                    return Err(err(
+                        "the header needs `nm` and at least one column name".into()
+                    ));
                 }
                 columns = Some(fields[1..].iter().map(|s| s.to_string()).collect());
                 values = vec![Vec::new(); fields.len() - 1];
@@ -119,11 +127,21 @@ pub fn parse(text: &str) -> Result<Table, TableError> {
             values[c].push(*v);
         }
     }
-    let columns = columns.ok_or(TableError { line: 0, message: "the table has no rows".into() })?;
+    let columns = columns.ok_or(TableError {
+        line: 0,
+        message: "the table has no rows".into(),
+    })?;
     if wavelengths.is_empty() {
-        return Err(TableError { line: 0, message: "the table has no rows".into() });
+        return Err(TableError {
+            line: 0,
+            message: "the table has no rows".into(),
+        });
     }
-    Ok(Table { columns, wavelengths, values })
+    Ok(Table {
+        columns,
+        wavelengths,
+        values,
+    })
 }
 
 #[cfg(test)]

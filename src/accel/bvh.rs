@@ -1,0 +1,99 @@
+//! obvhs' 8-wide compressed BVH (CWBVH, Ylitie et al. 2017) built with PLOC; we keep the
+//! primitives in the BVH's leaf order so a leaf's primitives sit next to each other in memory.
+
+use super::{Hit, Prim};
+use crate::ray::Ray;
+use crate::shape::{triangle::RayShear, PrimGeom};
+use obvhs::aabb::Aabb;
+use obvhs::cwbvh::{builder::build_cwbvh, CwBvh};
+use obvhs::ray::RayHit;
+use obvhs::{Boundable, BvhBuildParams};
+use std::time::Duration;
+
+struct PrimBox(Aabb);
+
+impl Boundable for PrimBox {
+    fn aabb(&self) -> Aabb {
+        self.0
+    }
+}
+
+pub struct Bvh {
+    bvh: Option<CwBvh>,
+    /// Primitives in BVH order: traversal's primitive index addresses these directly.
+    geoms: Vec<PrimGeom>,
+    ids: Vec<u32>,
+}
+
+impl Bvh {
+    pub fn build(prims: Vec<Prim>) -> Self {
+        if prims.is_empty() {
+            return Self {
+                bvh: None,
+                geoms: Vec::new(),
+                ids: Vec::new(),
+            };
+        }
+        let boxes: Vec<PrimBox> = prims
+            .iter()
+            .map(|p| {
+                let (lo, hi) = p.geom.bounds();
+                PrimBox(Aabb::new(lo.into(), hi.into()))
+            })
+            .collect();
+        let bvh = build_cwbvh(
+            &boxes,
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        let order = &bvh.primitive_indices;
+        let geoms = order.iter().map(|&i| prims[i as usize].geom).collect();
+        let ids = order.iter().map(|&i| prims[i as usize].id).collect();
+        Self {
+            bvh: Some(bvh),
+            geoms,
+            ids,
+        }
+    }
+
+    pub fn prims(&self) -> &[PrimGeom] {
+        &self.geoms
+    }
+
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let bvh = self.bvh.as_ref()?;
+        let shear = RayShear::new(ray);
+        let oray = obvhs::ray::Ray::new(ray.o.into(), ray.d.into(), 0.0, ray.t_max);
+        let mut best = None;
+        let mut rh = RayHit::none();
+        bvh.ray_traverse(oray, &mut rh, |r, i| {
+            match self.geoms[i].intersect(ray, &shear, r.tmax) {
+                Some(h) => {
+                    best = Some(Hit {
+                        prim: self.ids[i],
+                        hit: h,
+                    });
+                    h.t
+                }
+                None => f32::INFINITY,
+            }
+        });
+        best
+    }
+
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        let Some(bvh) = self.bvh.as_ref() else {
+            return false;
+        };
+        let shear = RayShear::new(ray);
+        let oray = obvhs::ray::Ray::new(ray.o.into(), ray.d.into(), 0.0, ray.t_max);
+        !bvh.ray_traverse_miss(oray, |r, i| {
+            match self.geoms[i].intersect(ray, &shear, r.tmax) {
+                Some(h) => h.t,
+                None => f32::INFINITY,
+            }
+        })
+    }
+}

@@ -1,0 +1,232 @@
+//! The `prism` command line.
+
+use crate::error::Error;
+use crate::integrator::{self, RenderStats};
+use crate::output;
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "prism",
+    version,
+    about = "A spectral path tracer for physically based dataset generation",
+    long_about = "prism renders RON scene files with hero-wavelength spectral path tracing into \
+                  multi-channel OpenEXR: linear sRGB, CIE XYZ and spectral radiance bands \
+                  (W m^-2 sr^-1 nm^-1). The scene format is documented in scenes/README.md."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene file to a multi-channel OpenEXR.
+    Render(RenderArgs),
+}
+
+#[derive(clap::Args, Debug)]
+pub struct RenderArgs {
+    /// The scene file (RON).
+    pub scene: PathBuf,
+    /// Output EXR path. Default: the scene's name with .exr, in the current directory.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Samples per pixel (overrides the scene's sampler.spp).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Random seed (overrides the scene's sampler.seed).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Worker threads. Default: one per core.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Also write an 8-bit sRGB PNG preview here.
+    #[arg(long)]
+    pub preview: Option<PathBuf>,
+    /// Exposure of the preview in stops (the PNG shows radiance × 2^exposure).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub exposure: f32,
+    /// No progress output (the summary line is still printed).
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Runs the CLI; returns the process exit code.
+pub fn main() -> i32 {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render(&args),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e}");
+            e.exit_code()
+        }
+    }
+}
+
+fn render(args: &RenderArgs) -> Result<(), Error> {
+    if args.spp == Some(0) {
+        return Err(crate::error::InputError::new(&args.scene, "--spp must be at least 1").into());
+    }
+    if let Some(0) = args.threads {
+        return Err(Error::Other("--threads must be at least 1".into()));
+    }
+    let t_load = Instant::now();
+    let job = crate::scene::load(&args.scene, |cfg| {
+        if let Some(spp) = args.spp {
+            cfg.sampler.spp = spp;
+        }
+        if let Some(seed) = args.seed {
+            cfg.sampler.seed = seed;
+        }
+    })?;
+    let load_s = t_load.elapsed().as_secs_f64();
+    for w in &job.warnings {
+        eprintln!("warning: {w}");
+    }
+    let out = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(&args.scene));
+    let pool = {
+        let mut b = rayon::ThreadPoolBuilder::new();
+        if let Some(t) = args.threads {
+            b = b.num_threads(t);
+        }
+        b.build()
+            .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?
+    };
+    let s = &job.settings;
+    let total = s.width as u64 * s.height as u64 * s.spp as u64;
+    let reporter = Reporter::new(total, args.quiet);
+    let t_render = Instant::now();
+    let (film, stats) =
+        pool.install(|| integrator::render(&job.scene, s, &job.channels, &|n| reporter.add(n)));
+    let render_s = t_render.elapsed().as_secs_f64();
+    reporter.finish();
+
+    let extra = metadata(args, &job, &stats, render_s);
+    output::exr::write(&film, &out, &extra)?;
+    if let Some(p) = &args.preview {
+        output::png::write(&film, p, args.exposure)?;
+    }
+    let msps = stats.samples as f64 / render_s / 1e6;
+    eprintln!(
+        "rendered {}x{} at {} spp ({:.1} Msamples) in {:.2} s ({:.2} Msamples/s, {} thread{}); scene load {:.2} s; {} invalid samples -> {}",
+        s.width,
+        s.height,
+        s.spp,
+        stats.samples as f64 / 1e6,
+        render_s,
+        msps,
+        pool.current_num_threads(),
+        if pool.current_num_threads() == 1 { "" } else { "s" },
+        load_s,
+        stats.invalid_samples,
+        out.display()
+    );
+    Ok(())
+}
+
+fn default_output(scene: &Path) -> PathBuf {
+    let stem = scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "render".into());
+    PathBuf::from(format!("{stem}.exr"))
+}
+
+fn metadata(
+    args: &RenderArgs,
+    job: &crate::scene::Job,
+    stats: &RenderStats,
+    seconds: f64,
+) -> Vec<(String, String)> {
+    let s = &job.settings;
+    let (lo, hi) = s.wavelengths.range();
+    vec![
+        ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
+        ("prism:scene".into(), args.scene.display().to_string()),
+        ("prism:spp".into(), s.spp.to_string()),
+        ("prism:seed".into(), s.seed.to_string()),
+        ("prism:sampler".into(), format!("{:?}", s.sampler)),
+        (
+            "prism:wavelengths".into(),
+            format!(
+                "{} per path, {:?} over {lo}-{hi} nm",
+                s.lanes,
+                s.wavelengths.kind()
+            ),
+        ),
+        (
+            "prism:integrator".into(),
+            format!(
+                "path max_depth {} rr_depth {} hide_emitters {}",
+                s.path.max_depth, s.path.rr_depth, s.path.hide_emitters
+            ),
+        ),
+        (
+            "prism:invalidSamples".into(),
+            stats.invalid_samples.to_string(),
+        ),
+        ("prism:renderSeconds".into(), format!("{seconds:.3}")),
+    ]
+}
+
+/// Progress: a bar with ETA and throughput on a terminal, a plain line every 10% otherwise.
+struct Reporter {
+    bar: Option<ProgressBar>,
+    total: u64,
+    done: AtomicU64,
+    start: Instant,
+    quiet: bool,
+}
+
+impl Reporter {
+    fn new(total: u64, quiet: bool) -> Self {
+        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+            let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+            b.set_style(
+                ProgressStyle::with_template("{bar:40} {percent:>3}%  {msg}  ETA {eta}")
+                    .expect("valid template"),
+            );
+            b
+        });
+        Self {
+            bar,
+            total,
+            done: AtomicU64::new(0),
+            start: Instant::now(),
+            quiet,
+        }
+    }
+
+    fn add(&self, n: u64) {
+        let before = self.done.fetch_add(n, Ordering::Relaxed);
+        let now = before + n;
+        let msps = now as f64 / self.start.elapsed().as_secs_f64().max(1e-9) / 1e6;
+        if let Some(b) = &self.bar {
+            b.set_position(now);
+            b.set_message(format!("{msps:.2} Msamples/s"));
+        } else if !self.quiet {
+            let step = |v: u64| v * 10 / self.total.max(1);
+            if step(now) > step(before) {
+                eprintln!("progress: {:3}%  {msps:.2} Msamples/s", step(now) * 10);
+            }
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}

@@ -1,0 +1,275 @@
+//! The scene file format (RON). Every field has a default unless it says otherwise, so a scene
+//! writes only what it needs; `scenes/README.md` documents each entry with an example.
+//!
+//! ```ron
+//! (
+//!     camera: (fov: 40, to_world: [LookAt(origin: (0, 1, 4), target: (0, 0, 0), up: (0, 1, 0))]),
+//!     film: (width: 320, height: 240),
+//!     materials: { "grey": Diffuse(reflectance: Constant(0.5)) },
+//!     shapes: [(shape: Sphere(radius: 1), material: "grey")],
+//!     emitters: [Constant(radiance: Named("D65"))],
+//! )
+//! ```
+
+mod parse;
+mod spectrum;
+
+use crate::accel::AccelKind;
+use crate::camera::FovAxis;
+use crate::filter::FilterConfig;
+use crate::integrator::PathSettings;
+use crate::sampler::SamplerKind;
+use crate::spectrum::WavelengthSampling;
+pub use parse::{parse_file, parse_str};
+use serde::{Deserialize, Serialize};
+pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The context in which a spectrum field is resolved (for errors and relative paths).
+pub fn spectrum_ctx<'a>(file: &'a Path, field: &'a str, range: (f32, f32)) -> SpectrumContext<'a> {
+    SpectrumContext { file, field, range }
+}
+
+/// A whole scene file.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SceneConfig {
+    pub camera: CameraConfig,
+    pub film: FilmConfig,
+    pub sampler: SamplerConfig,
+    /// The `path` integrator: `(max_depth: -1, rr_depth: 5, hide_emitters: false)`.
+    pub integrator: PathSettings,
+    pub spectral: SpectralConfig,
+    pub outputs: OutputConfig,
+    /// Materials by name; shapes refer to them. `{ "white": Diffuse(reflectance: Rgb(0.8, 0.8, 0.8)) }`
+    pub materials: BTreeMap<String, MaterialConfig>,
+    pub shapes: Vec<ShapeConfig>,
+    /// Emitters that are not attached to a shape (area lights are given on their shape).
+    pub emitters: Vec<EmitterConfig>,
+    /// Acceleration structure: `Bvh` (default) or `BruteForce` (for testing).
+    pub accel: AccelKind,
+}
+
+/// `camera: (fov: 39.3077, fov_axis: Smaller, near_clip: 0.001, to_world: [LookAt(...)])`
+///
+/// A perspective camera looking along its local +z, +y up, +x left (Mitsuba 3's convention).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CameraConfig {
+    /// Field of view in degrees along `fov_axis`. Default 45.
+    pub fov: f32,
+    /// `X` (default), `Y`, `Diagonal`, `Smaller` or `Larger`.
+    pub fov_axis: FovAxis,
+    /// Distance of the near clip plane. Default 0.01.
+    pub near_clip: f32,
+    /// Distance of the far clip plane. Default 10000.
+    pub far_clip: f32,
+    /// Camera-to-world transform. Default identity (at the origin, looking along +z).
+    pub to_world: Vec<TransformOp>,
+}
+
+impl Default for CameraConfig {
+    fn default() -> Self {
+        Self {
+            fov: 45.0,
+            fov_axis: FovAxis::X,
+            near_clip: 0.01,
+            far_clip: 1e4,
+            to_world: Vec::new(),
+        }
+    }
+}
+
+/// `film: (width: 256, height: 256, filter: Box())`
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FilmConfig {
+    /// Default 768 (Mitsuba's).
+    pub width: u32,
+    /// Default 576 (Mitsuba's).
+    pub height: u32,
+    /// `Box(radius: 0.5)` or `Gaussian(stddev: 0.5)` (default, Mitsuba's).
+    pub filter: FilterConfig,
+}
+
+impl Default for FilmConfig {
+    fn default() -> Self {
+        Self {
+            width: 768,
+            height: 576,
+            filter: FilterConfig::default(),
+        }
+    }
+}
+
+/// `sampler: (kind: Sobol, spp: 256, seed: 7)`
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SamplerConfig {
+    /// `Independent` (default) or `Sobol` (Owen-scrambled, at most 65536 spp).
+    pub kind: SamplerKind,
+    /// Samples per pixel. Default 64.
+    pub spp: u32,
+    /// Seed; the same seed gives the same image, bit for bit. Default 0.
+    pub seed: u64,
+}
+
+impl Default for SamplerConfig {
+    fn default() -> Self {
+        Self {
+            kind: SamplerKind::Independent,
+            spp: 64,
+            seed: 0,
+        }
+    }
+}
+
+/// `spectral: (wavelengths: 4, range: (360, 830), sampling: Visible)`
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SpectralConfig {
+    /// Wavelengths per path: 1, 2, 4 (default), 8 or 16.
+    pub wavelengths: usize,
+    /// Wavelength range in nm. Default (360, 830), the CIE observer's range; any range the
+    /// scene's spectra cover works (e.g. (300, 1100) for NIR bands).
+    pub range: (f32, f32),
+    /// `Visible` (default: importance-samples the eye's sensitivity, as Mitsuba 3) or `Uniform`
+    /// (equal noise in every band: better for spectral outputs and ranges beyond the visible).
+    pub sampling: WavelengthSampling,
+}
+
+impl Default for SpectralConfig {
+    fn default() -> Self {
+        Self {
+            wavelengths: 4,
+            range: (360.0, 830.0),
+            sampling: WavelengthSampling::Visible,
+        }
+    }
+}
+
+/// `outputs: (rgb: true, xyz: true, bands: 47, band_range: (360, 830))`
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputConfig {
+    /// Linear sRGB channels R, G, B. Default true.
+    pub rgb: bool,
+    /// CIE 1931 X, Y, Z channels. Default true.
+    pub xyz: bool,
+    /// Number of spectral bands (channels `S0.<centre>nm`, each the band's mean radiance);
+    /// 0 for none. Default: 10 nm bands over `band_range`.
+    pub bands: Option<u32>,
+    /// Range the bands cover, within the spectral range. Default: the spectral range.
+    pub band_range: Option<(f32, f32)>,
+}
+
+impl Default for OutputConfig {
+    fn default() -> Self {
+        Self {
+            rgb: true,
+            xyz: true,
+            bands: None,
+            band_range: None,
+        }
+    }
+}
+
+/// A material. `Diffuse(reflectance: Rgb(0.8, 0.2, 0.2))`
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum MaterialConfig {
+    /// Lambertian, one-sided (Mitsuba's `diffuse`). `reflectance` default `Constant(0.5)`.
+    Diffuse {
+        #[serde(default = "half_grey")]
+        reflectance: SpectrumConfig,
+    },
+}
+
+fn half_grey() -> SpectrumConfig {
+    SpectrumConfig::Constant(0.5)
+}
+
+/// A shape: `(shape: Rectangle, material: "white", to_world: [Scale((2, 2, 1))])`.
+/// `material` defaults to a grey diffuse (0.5); `emitter: (radiance: ...)` makes it an area light.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeConfig {
+    pub shape: ShapeKind,
+    #[serde(default)]
+    pub material: Option<String>,
+    #[serde(default)]
+    pub emitter: Option<AreaEmitterConfig>,
+    #[serde(default)]
+    pub to_world: Vec<TransformOp>,
+    /// Turn the surface around: its front (emitting, reflecting) side becomes the other one.
+    #[serde(default)]
+    pub flip_normals: bool,
+}
+
+/// The geometry of a shape, before `to_world`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ShapeKind {
+    /// [-1,1]² in the z = 0 plane, normal +z.
+    Rectangle,
+    /// [-1,1]³, normals outward.
+    Cube,
+    /// The unit disk in the z = 0 plane, normal +z.
+    Disk,
+    /// `Sphere(center: (0, 0, 0), radius: 1)`; `to_world` may move it and scale it uniformly.
+    Sphere {
+        #[serde(default)]
+        center: [f32; 3],
+        #[serde(default = "one")]
+        radius: f32,
+    },
+    /// `Mesh(path: "meshes/bunny.ply")`: an OBJ or PLY file, relative to the scene file.
+    Mesh { path: String },
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+/// `emitter: (radiance: Rgb(18.4, 14.0, 6.8))` on a shape: emits from its front side.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AreaEmitterConfig {
+    /// Radiance, W m⁻² sr⁻¹ nm⁻¹ (an `Rgb` is uplifted as an illuminant, times D65).
+    pub radiance: SpectrumConfig,
+}
+
+/// Emitters not attached to a shape.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum EmitterConfig {
+    /// `Point(position: (0, 2, 0), intensity: Named("A"))`, intensity in W sr⁻¹ nm⁻¹.
+    Point {
+        position: [f32; 3],
+        intensity: SpectrumConfig,
+    },
+    /// `Constant(radiance: Constant(1.0))`: radiance arriving from every direction.
+    Constant { radiance: SpectrumConfig },
+}
+
+/// One step of a transform; a list applies its steps in order (the first acts first).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum TransformOp {
+    /// A 4×4 matrix in row-major order (as Mitsuba prints it).
+    Matrix([[f32; 4]; 4]),
+    Translate([f32; 3]),
+    Scale([f32; 3]),
+    /// `Rotate(axis: (0, 1, 0), angle: 90)`, angle in degrees, counter-clockwise about the axis.
+    Rotate {
+        axis: [f32; 3],
+        angle: f32,
+    },
+    /// `LookAt(origin: (0, 0, 4), target: (0, 0, 0), up: (0, 1, 0))` (camera convention: +z towards the target).
+    LookAt {
+        origin: [f32; 3],
+        target: [f32; 3],
+        up: [f32; 3],
+    },
+}

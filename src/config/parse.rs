@@ -1,0 +1,45 @@
+//! Reading a scene file: RON syntax errors come back with line and column.
+
+use super::SceneConfig;
+use crate::error::{Error, InputError};
+use ron::extensions::Extensions;
+use std::path::Path;
+
+/// Parses scene text; `file` names it in errors.
+pub fn parse_str(text: &str, file: &Path) -> Result<SceneConfig, InputError> {
+    // IMPLICIT_SOME: optional fields are written without `Some(...)`.
+    let opts = ron::Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
+    opts.from_str::<SceneConfig>(text).map_err(|e| {
+        let hint = hint_for(&e.code);
+        let mut err =
+            InputError::new(file, e.code.to_string()).at(e.span.start.line, e.span.start.col);
+        if let Some(h) = hint {
+            err = err.hint(h);
+        }
+        err
+    })
+}
+
+/// Reads and parses a scene file.
+pub fn parse_file(path: &Path) -> Result<SceneConfig, Error> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        InputError::new(path, format!("cannot read the scene file: {e}")).hint("check the path")
+    })?;
+    Ok(parse_str(&text, path)?)
+}
+
+fn hint_for(code: &ron::Error) -> Option<String> {
+    use ron::Error as E;
+    match code {
+        E::NoSuchStructField { .. } => {
+            Some("check the spelling; scenes/README.md lists every field".into())
+        }
+        E::NoSuchEnumVariant { .. } => {
+            Some("check the spelling; variant names are case-sensitive".into())
+        }
+        E::ExpectedFloat | E::ExpectedInteger => {
+            Some("numbers are written plainly, e.g. 0.5 or 256".into())
+        }
+        _ => None,
+    }
+}

@@ -1,0 +1,230 @@
+//! How a scene writes a spectrum, and its resolution into a `Curve` with checks that depend on
+//! what the spectrum means (a reflectance must stay within [0, 1], an emission must be ≥ 0).
+
+use crate::error::InputError;
+use crate::spectrum::{data, table, Curve};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A spectrum in a scene file.
+///
+/// ```ron
+/// Constant(0.5)
+/// Rgb(0.8, 0.2, 0.1)                      // linear sRGB, uplifted (Jakob & Hanika 2019)
+/// Tabulated([(400, 0.1), (550, 0.6), (700, 0.3)])   // (nm, value), linear in between
+/// File(path: "spectra/paint.txt")         // a table file, relative to the scene file
+/// File(path: "data/leaf.txt", column: "reflectance")
+/// Named("D65")                            // a CIE illuminant, unit luminance
+/// Blackbody(5500)                         // Planck's law in W m⁻² sr⁻¹ nm⁻¹, temperature in K
+/// Scaled(10, Named("A"))                  // any spectrum times a factor
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum SpectrumConfig {
+    Constant(f32),
+    Rgb(f32, f32, f32),
+    Tabulated(Vec<(f32, f32)>),
+    File {
+        path: String,
+        #[serde(default)]
+        column: Option<String>,
+    },
+    Named(String),
+    Blackbody(f32),
+    Scaled(f32, Box<SpectrumConfig>),
+}
+
+/// What a spectrum stands for, which decides how RGB is uplifted and which values are valid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// A reflectance or transmittance: values in [0, 1]; RGB uplifted bounded.
+    Reflectance,
+    /// Emitted radiance or intensity: values ≥ 0; RGB uplifted unbounded, times D65.
+    Emission,
+}
+
+/// Where a spectrum sits: for error messages and relative paths.
+pub struct Context<'a> {
+    /// The scene file.
+    pub file: &'a Path,
+    /// The field path, e.g. `materials."red".reflectance`.
+    pub field: &'a str,
+    /// The render's wavelength range (values are checked over it).
+    pub range: (f32, f32),
+}
+
+impl Context<'_> {
+    fn err(&self, message: impl Into<String>) -> InputError {
+        InputError::new(self.file, message).field(self.field)
+    }
+}
+
+fn check_finite(ctx: &Context, what: &str, v: f32) -> Result<(), InputError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(ctx
+            .err(format!("{what} is {v}, not a finite number"))
+            .hint("write a finite value"))
+    }
+}
+
+impl SpectrumConfig {
+    /// Resolves to a curve; `warnings` receives notes that do not stop the render.
+    pub fn resolve(
+        &self,
+        role: Role,
+        ctx: &Context,
+        warnings: &mut Vec<String>,
+    ) -> Result<Curve, InputError> {
+        let curve = self.resolve_inner(role, ctx)?;
+        let (lo, hi) = ctx.range;
+        let (min, max) = curve.min_max(lo, hi);
+        if !(min.is_finite() && max.is_finite()) {
+            return Err(ctx.err("the spectrum takes non-finite values over the render range"));
+        }
+        if min < 0.0 {
+            return Err(ctx
+                .err(format!(
+                    "the spectrum is negative ({min}) somewhere in {lo}–{hi} nm"
+                ))
+                .hint("spectral values must be ≥ 0"));
+        }
+        if role == Role::Reflectance && max > 1.0 + 1e-4 {
+            return Err(ctx
+                .err(format!("a reflectance must lie in [0, 1], but this one reaches {max} in {lo}–{hi} nm"))
+                .hint("a surface cannot reflect more light than it receives; scale the values to at most 1"));
+        }
+        if let Some((a, b)) = curve.support() {
+            if a > lo || b < hi {
+                warnings.push(format!(
+                    "{}: {}: the spectrum is defined over {a}–{b} nm only and is 0 elsewhere in the render range {lo}–{hi} nm",
+                    ctx.file.display(),
+                    ctx.field
+                ));
+            }
+        }
+        Ok(curve)
+    }
+
+    fn resolve_inner(&self, role: Role, ctx: &Context) -> Result<Curve, InputError> {
+        Ok(match self {
+            SpectrumConfig::Constant(v) => {
+                check_finite(ctx, "the value", *v)?;
+                Curve::Constant(*v)
+            }
+            SpectrumConfig::Rgb(r, g, b) => {
+                let rgb = [*r, *g, *b];
+                for (c, name) in rgb.iter().zip(["red", "green", "blue"]) {
+                    check_finite(ctx, &format!("the {name} component"), *c)?;
+                    if *c < 0.0 {
+                        return Err(ctx.err(format!(
+                            "the {name} component is {c}; RGB components must be ≥ 0"
+                        )));
+                    }
+                }
+                match role {
+                    Role::Reflectance => {
+                        if rgb.iter().any(|&c| c > 1.0) {
+                            return Err(ctx
+                                .err(format!("a reflectance RGB must lie in [0, 1], got ({r}, {g}, {b})"))
+                                .hint("reflectances above 1 would create energy; divide by the largest component"));
+                        }
+                        Curve::rgb_reflectance(rgb)
+                    }
+                    Role::Emission => Curve::rgb_illuminant(rgb),
+                }
+            }
+            SpectrumConfig::Tabulated(pairs) => {
+                if pairs.is_empty() {
+                    return Err(ctx.err("a tabulated spectrum needs at least one (nm, value) pair"));
+                }
+                for (i, w) in pairs.windows(2).enumerate() {
+                    if w[1].0 <= w[0].0 {
+                        return Err(ctx.err(format!(
+                            "wavelengths must increase: pair {} ({} nm) follows {} nm",
+                            i + 1,
+                            w[1].0,
+                            w[0].0
+                        )));
+                    }
+                }
+                for (i, (nm, v)) in pairs.iter().enumerate() {
+                    check_finite(ctx, &format!("pair {i}'s wavelength"), *nm)?;
+                    check_finite(ctx, &format!("pair {i}'s value"), *v)?;
+                    if *nm <= 0.0 {
+                        return Err(
+                            ctx.err(format!("pair {i}: wavelength {nm} nm is not positive"))
+                        );
+                    }
+                }
+                let nm: Vec<f64> = pairs.iter().map(|p| p.0 as f64).collect();
+                let v: Vec<f64> = pairs.iter().map(|p| p.1 as f64).collect();
+                Curve::from_samples(&nm, &v)
+            }
+            SpectrumConfig::File { path, column } => {
+                let full = ctx.file.parent().unwrap_or(Path::new(".")).join(path);
+                let text = std::fs::read_to_string(&full).map_err(|e| {
+                    ctx.err(format!(
+                        "cannot read spectrum file `{}`: {e}",
+                        full.display()
+                    ))
+                    .hint("paths are relative to the scene file")
+                })?;
+                let t = table::parse(&text).map_err(|e| {
+                    InputError::new(&full, e.message.clone())
+                        .at(e.line, 1)
+                        .hint(format!(
+                            "referenced from {}: {}",
+                            ctx.file.display(),
+                            ctx.field
+                        ))
+                })?;
+                let c = match column {
+                    None => 0,
+                    Some(name) => t.columns.iter().position(|c| c == name).ok_or_else(|| {
+                        ctx.err(format!("`{}` has no column `{name}`", full.display()))
+                            .hint(format!("its columns are: {}", t.columns.join(", ")))
+                    })?,
+                };
+                Curve::from_samples(&t.wavelengths, &t.values[c])
+            }
+            SpectrumConfig::Named(name) => {
+                if role == Role::Reflectance {
+                    return Err(ctx
+                        .err(format!(
+                            "`Named(\"{name}\")` is an illuminant, not a reflectance"
+                        ))
+                        .hint("use Constant, Rgb, Tabulated or File for reflectances"));
+                }
+                data::named_illuminant(name).ok_or_else(|| {
+                    ctx.err(format!("unknown spectrum name `{name}`"))
+                        .hint(format!(
+                            "the named spectra are: {}",
+                            data::illuminant_names().join(", ")
+                        ))
+                })?
+            }
+            SpectrumConfig::Blackbody(kelvin) => {
+                check_finite(ctx, "the temperature", *kelvin)?;
+                if *kelvin <= 0.0 {
+                    return Err(ctx.err(format!("blackbody temperature {kelvin} K must be > 0")));
+                }
+                if role == Role::Reflectance {
+                    return Err(ctx.err("a blackbody is an emission spectrum, not a reflectance"));
+                }
+                Curve::Blackbody {
+                    kelvin: *kelvin,
+                    scale: 1.0,
+                }
+            }
+            SpectrumConfig::Scaled(k, inner) => {
+                check_finite(ctx, "the scale factor", *k)?;
+                if *k < 0.0 {
+                    return Err(ctx.err(format!("the scale factor {k} must be ≥ 0")));
+                }
+                inner.resolve_inner(role, ctx)?.scaled(*k)
+            }
+        })
+    }
+}

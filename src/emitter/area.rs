@@ -1,0 +1,120 @@
+//! Area emitters: uniform radiance from the front side of a shape. Points are sampled uniformly
+//! by area (meshes pick a triangle by area), except on spheres, which sample the cone they
+//! subtend (uniform in solid angle, so a small distant sphere light is not noisy).
+
+use super::EmitterSample;
+use crate::interaction::SurfaceInteraction;
+use crate::math::distribution::Distribution1D;
+use crate::math::sampling::square_to_triangle;
+use crate::shape::{AreaSample, Shape};
+use crate::spectrum::{Curve, Wavelengths};
+use glam::{Vec2, Vec3};
+
+#[derive(Clone, Debug)]
+pub struct AreaEmitter {
+    pub shape: u32,
+    pub radiance: Curve,
+    /// Triangle choice by area (meshes only).
+    triangles: Option<Distribution1D>,
+    area: f32,
+}
+
+impl AreaEmitter {
+    pub fn new(shape_index: u32, shape: &Shape, radiance: Curve) -> Self {
+        let triangles = match shape {
+            Shape::Mesh(m) => {
+                let areas: Vec<f32> = (0..m.indices.len()).map(|i| m.triangle_area(i)).collect();
+                Some(Distribution1D::new(&areas))
+            }
+            _ => None,
+        };
+        Self {
+            shape: shape_index,
+            radiance,
+            triangles,
+            area: shape.area(),
+        }
+    }
+
+    /// A uniform point on the shape (area measure) – the sphere case is handled by the caller.
+    fn sample_area(&self, u: Vec2, shape: &Shape) -> AreaSample {
+        match shape {
+            Shape::Mesh(m) => {
+                let (tri, _, ux) = self.triangles.as_ref().unwrap().sample_discrete(u.x);
+                let b = square_to_triangle(Vec2::new(ux, u.y));
+                let s = m.surface(tri, b.x, b.y);
+                AreaSample {
+                    p: s.p,
+                    p_error: s.p_error,
+                    n: s.ng,
+                    pdf_area: 1.0 / self.area,
+                }
+            }
+            Shape::Sphere(s) => s.sample_area(u),
+            Shape::Disk(d) => d.sample_area(u, self.area),
+        }
+    }
+
+    #[inline]
+    pub fn sample_li<const N: usize>(
+        &self,
+        si: &SurfaceInteraction,
+        u: Vec2,
+        wl: &Wavelengths<N>,
+        shapes: &[Shape],
+    ) -> Option<EmitterSample<N>> {
+        let shape = &shapes[self.shape as usize];
+        let (s, pdf) = match shape {
+            Shape::Sphere(sph) => sph.sample_from(si.p, u),
+            _ => {
+                let s = self.sample_area(u, shape);
+                let to = s.p - si.p;
+                let d2 = to.length_squared();
+                let cos = s.n.dot(-to) / d2.sqrt();
+                (
+                    s,
+                    if cos > 0.0 {
+                        s.pdf_area * d2 / cos
+                    } else {
+                        0.0
+                    },
+                )
+            }
+        };
+        let to = s.p - si.p;
+        let dist = to.length();
+        if !(pdf > 0.0 && pdf.is_finite() && dist > 0.0) {
+            return None;
+        }
+        let wi = to / dist;
+        // One-sided: nothing leaves the back of the emitter.
+        if s.n.dot(-wi) <= 0.0 {
+            return None;
+        }
+        Some(EmitterSample {
+            wi,
+            shadow: si.spawn_to(s.p, s.p_error, Some(s.n)),
+            radiance: self.radiance.eval(wl),
+            pdf,
+            delta: false,
+        })
+    }
+
+    /// Density of `sample_li` from `p` yielding the emitter point `light`.
+    #[inline]
+    pub fn pdf_li(&self, p: Vec3, light: &SurfaceInteraction, shapes: &[Shape]) -> f32 {
+        match &shapes[self.shape as usize] {
+            Shape::Sphere(sph) => sph.pdf_from(p, light.p, light.ng),
+            _ => {
+                let to = light.p - p;
+                let d2 = to.length_squared();
+                let cos = light.ng.dot(-to) / d2.sqrt();
+                if cos > 0.0 {
+                    d2 / (cos * self.area)
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+}

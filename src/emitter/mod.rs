@@ -1,0 +1,126 @@
+//! Emitters: area lights on shapes, point lights, and a constant environment.
+//! Each can be sampled from a surface point (`sample_li`) and report the density with which it
+//! would have produced a given direction (`pdf_li`), which multiple importance sampling needs.
+
+mod area;
+
+use crate::interaction::SurfaceInteraction;
+use crate::math::sampling::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
+use crate::ray::Ray;
+use crate::shape::Shape;
+use crate::spectrum::{Curve, Spectrum, Wavelengths};
+pub use area::AreaEmitter;
+use glam::{Vec2, Vec3};
+
+#[derive(Clone, Debug)]
+pub enum Emitter {
+    /// Emits `radiance` from the front side of a shape.
+    Area(AreaEmitter),
+    /// Emits `intensity` (W sr⁻¹ nm⁻¹) equally in all directions from a point.
+    Point { position: Vec3, intensity: Curve },
+    /// Radiance `radiance` arriving from every direction at infinity.
+    Constant { radiance: Curve },
+}
+
+/// Light arriving at a point from a sampled point on an emitter.
+#[derive(Clone, Copy, Debug)]
+pub struct EmitterSample<const N: usize> {
+    /// Unit direction from the receiving point towards the light.
+    pub wi: Vec3,
+    /// The shadow ray to test visibility with.
+    pub shadow: Ray,
+    /// Emitted radiance (intensity / distance² for a point light) at the lanes.
+    pub radiance: Spectrum<N>,
+    /// Solid-angle density of `wi` (1 for a delta light).
+    pub pdf: f32,
+    pub delta: bool,
+}
+
+impl Emitter {
+    pub fn is_environment(&self) -> bool {
+        matches!(self, Emitter::Constant { .. })
+    }
+
+    /// Samples light arriving at `si`. None if the sample carries nothing (back side, zero pdf).
+    #[inline]
+    pub fn sample_li<const N: usize>(
+        &self,
+        si: &SurfaceInteraction,
+        u: Vec2,
+        wl: &Wavelengths<N>,
+        shapes: &[Shape],
+    ) -> Option<EmitterSample<N>> {
+        match self {
+            Emitter::Area(a) => a.sample_li(si, u, wl, shapes),
+            Emitter::Point {
+                position,
+                intensity,
+            } => {
+                let to = *position - si.p;
+                let d2 = to.length_squared();
+                if d2 <= 0.0 {
+                    return None;
+                }
+                let shadow = si.spawn_to(*position, Vec3::ZERO, None);
+                Some(EmitterSample {
+                    wi: to / d2.sqrt(),
+                    shadow,
+                    radiance: intensity.eval(wl) * (1.0 / d2),
+                    pdf: 1.0,
+                    delta: true,
+                })
+            }
+            Emitter::Constant { radiance } => {
+                let wi = square_to_uniform_sphere(u);
+                Some(EmitterSample {
+                    wi,
+                    shadow: si.spawn(wi),
+                    radiance: radiance.eval(wl),
+                    pdf: UNIFORM_SPHERE_PDF,
+                    delta: false,
+                })
+            }
+        }
+    }
+
+    /// Solid-angle density of `sample_li` from `p` producing the hit `light` (area emitters).
+    #[inline]
+    pub fn pdf_li_hit(&self, p: Vec3, light: &SurfaceInteraction, shapes: &[Shape]) -> f32 {
+        match self {
+            Emitter::Area(a) => a.pdf_li(p, light, shapes),
+            _ => 0.0,
+        }
+    }
+
+    /// Solid-angle density of `sample_li` producing direction `d` towards infinity.
+    #[inline]
+    pub fn pdf_li_env(&self) -> f32 {
+        match self {
+            Emitter::Constant { .. } => UNIFORM_SPHERE_PDF,
+            _ => 0.0,
+        }
+    }
+
+    /// Radiance leaving an area emitter's surface at `si` towards `w` (world, away from it).
+    #[inline]
+    pub fn le_surface<const N: usize>(
+        &self,
+        si: &SurfaceInteraction,
+        w: Vec3,
+        wl: &Wavelengths<N>,
+    ) -> Spectrum<N> {
+        match self {
+            Emitter::Area(a) if si.ng.dot(w) > 0.0 => a.radiance.eval(wl),
+            _ => Spectrum::zero(),
+        }
+    }
+
+    /// Radiance arriving from infinity along direction `d` (environment emitters).
+    #[inline]
+    pub fn le_env<const N: usize>(&self, _d: Vec3, wl: &Wavelengths<N>) -> Spectrum<N> {
+        match self {
+            Emitter::Constant { radiance } => radiance.eval(wl),
+            _ => Spectrum::zero(),
+        }
+    }
+}

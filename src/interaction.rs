@@ -1,0 +1,42 @@
+//! A ray's hit on a surface: where, which way the surface faces, and its shading frame.
+
+use crate::math::Frame;
+use crate::ray::{self, Ray};
+use glam::{Vec2, Vec3};
+
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceInteraction {
+    pub p: Vec3,
+    /// Conservative bound on the rounding error of `p` (per component).
+    pub p_error: Vec3,
+    /// Unit geometric normal on the surface's front side.
+    pub ng: Vec3,
+    /// Shading frame (z = shading normal).
+    pub frame: Frame,
+    pub uv: Vec2,
+    /// Distance along the ray that found it.
+    pub t: f32,
+    pub shape: u32,
+    pub prim: u32,
+}
+
+impl SurfaceInteraction {
+    /// A ray leaving this point in unit direction `d`.
+    #[inline]
+    pub fn spawn(&self, d: Vec3) -> Ray {
+        ray::spawn(self.p, self.p_error, self.ng, d)
+    }
+
+    /// A shadow ray to `target` (on a surface with normal `target_n`, or a free point).
+    #[inline]
+    pub fn spawn_to(&self, target: Vec3, target_error: Vec3, target_n: Option<Vec3>) -> Ray {
+        ray::spawn_to(
+            self.p,
+            self.p_error,
+            self.ng,
+            target,
+            target_error,
+            target_n,
+        )
+    }
+}

@@ -1,0 +1,139 @@
+//! Piecewise-constant 1D distributions: discrete choices by weight (triangles by area, emitters)
+//! and continuous tabulated functions (pixel filters, environment-map rows).
+
+/// A distribution over `n` cells proportional to non-negative weights.
+#[derive(Clone, Debug)]
+pub struct Distribution1D {
+    func: Vec<f32>,
+    /// cdf[0] = 0, cdf[n] = 1.
+    cdf: Vec<f32>,
+    integral: f32,
+}
+
+impl Distribution1D {
+    /// Weights must be finite and non-negative; if they are all zero the distribution is uniform
+    /// (so a degenerate table never yields NaN).
+    pub fn new(weights: &[f32]) -> Self {
+        assert!(
+            !weights.is_empty(),
+            "a distribution needs at least one cell"
+        );
+        let n = weights.len();
+        let mut cdf = Vec::with_capacity(n + 1);
+        cdf.push(0.0f32);
+        let mut acc = 0.0f64;
+        for &w in weights {
+            debug_assert!(w.is_finite() && w >= 0.0);
+            acc += w.max(0.0) as f64;
+            cdf.push(acc as f32);
+        }
+        let integral = acc as f32;
+        if integral > 0.0 {
+            for c in &mut cdf[1..] {
+                *c = (*c as f64 / acc) as f32;
+            }
+        } else {
+            for (i, c) in cdf.iter_mut().enumerate() {
+                *c = i as f32 / n as f32;
+            }
+        }
+        cdf[n] = 1.0;
+        let func = if integral > 0.0 {
+            weights.to_vec()
+        } else {
+            vec![1.0; n]
+        };
+        let integral = if integral > 0.0 { integral } else { n as f32 };
+        Self {
+            func,
+            cdf,
+            integral,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.func.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.func.is_empty()
+    }
+
+    /// Sum of the weights.
+    pub fn integral(&self) -> f32 {
+        self.integral
+    }
+
+    /// Probability of cell `i`.
+    #[inline]
+    pub fn pmf(&self, i: usize) -> f32 {
+        self.cdf[i + 1] - self.cdf[i]
+    }
+
+    #[inline]
+    fn find(&self, u: f32) -> usize {
+        // Largest i with cdf[i] <= u, kept within [0, n-1]; skips zero-width cells.
+        let i = self.cdf.partition_point(|&c| c <= u);
+        i.saturating_sub(1).min(self.func.len() - 1)
+    }
+
+    /// Picks a cell; returns it, its probability, and `u` rescaled to [0,1) within the cell
+    /// (so the same number can drive the next decision).
+    #[inline]
+    pub fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
+        let mut i = self.find(u);
+        while self.pmf(i) == 0.0 && i > 0 {
+            i -= 1;
+        }
+        let p = self.pmf(i);
+        let rescaled = ((u - self.cdf[i]) / p).clamp(0.0, 1.0 - f32::EPSILON * 0.5);
+        (i, p, rescaled)
+    }
+
+    /// Samples x in [0,1) with density func(x)/∫func (cells of width 1/n); returns (x, pdf, cell).
+    #[inline]
+    pub fn sample_continuous(&self, u: f32) -> (f32, f32, usize) {
+        let (i, p, du) = self.sample_discrete(u);
+        let n = self.func.len() as f32;
+        ((i as f32 + du) / n, p * n, i)
+    }
+
+    /// Density at x in [0,1) of `sample_continuous`.
+    #[inline]
+    pub fn pdf_continuous(&self, x: f32) -> f32 {
+        let n = self.func.len();
+        let i = ((x * n as f32) as usize).min(n - 1);
+        self.pmf(i) * n as f32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn discrete_probabilities_follow_weights() {
+        let d = Distribution1D::new(&[1.0, 0.0, 3.0]);
+        assert!(
+            (d.pmf(0) - 0.25).abs() < 1e-6 && d.pmf(1) == 0.0 && (d.pmf(2) - 0.75).abs() < 1e-6
+        );
+        assert_eq!(d.sample_discrete(0.1).0, 0);
+        assert_eq!(
+            d.sample_discrete(0.25).0,
+            2,
+            "zero-weight cell is never chosen"
+        );
+        assert_eq!(d.sample_discrete(0.999_999).0, 2);
+        let (i, _, r) = d.sample_discrete(0.625);
+        assert_eq!(i, 2);
+        assert!((r - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn all_zero_weights_are_uniform() {
+        let d = Distribution1D::new(&[0.0, 0.0]);
+        assert!((d.pmf(0) - 0.5).abs() < 1e-6);
+        let (x, pdf, _) = d.sample_continuous(0.7);
+        assert!((x - 0.7).abs() < 1e-6 && (pdf - 1.0).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,11 @@
+//! Small math pieces the renderer shares: frames, sampling warps, random numbers, transforms,
+//! and floating-point error bounds.
+pub mod distribution;
+pub mod float;
+pub mod frame;
+pub mod rng;
+pub mod sampling;
+pub mod transform;
+
+pub use frame::Frame;
+pub use transform::Transform;

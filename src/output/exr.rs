@@ -1,0 +1,48 @@
+//! OpenEXR output: float32 channels R, G, B, X, Y, Z and spectral bands in the layout of
+//! Fichet, Pacanowski & Wilkie (JCGT 2021): `S0.<λ>nm` emissive channels with a comma decimal
+//! separator and the `spectralLayoutVersion` / `emissiveUnits` header attributes, so
+//! colour-science's `read_spectral_image_Fichet2021` reads them.
+
+use crate::error::Error;
+use crate::film::Film;
+use exr::prelude::{
+    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, ImageAttributes,
+    IntegerBounds, Layer, LayerAttributes, Text, WritableImage,
+};
+use std::path::Path;
+
+/// Writes `film` to `path` (atomically), with extra text header attributes `extra`.
+pub fn write(film: &Film, path: &Path, extra: &[(String, String)]) -> Result<(), Error> {
+    let size = (film.width as usize, film.height as usize);
+    let channels: Vec<AnyChannel<FlatSamples>> = film
+        .channels
+        .iter()
+        .map(|c| AnyChannel::new(c.name.as_str(), FlatSamples::F32(c.data.clone())))
+        .collect();
+    let mut attrs = ImageAttributes::new(IntegerBounds::from_dimensions(size));
+    let mut text = |k: &str, v: &str| -> Result<(), Error> {
+        let key = Text::new_or_none(k)
+            .ok_or_else(|| Error::Other(format!("EXR attribute name `{k}` is not ASCII")))?;
+        let val = Text::new_or_none(v)
+            .ok_or_else(|| Error::Other(format!("EXR attribute `{k}` has non-ASCII text")))?;
+        attrs.other.insert(key, AttributeValue::Text(val));
+        Ok(())
+    };
+    if !film.band_centers.is_empty() {
+        text("spectralLayoutVersion", "1.0")?;
+        text("emissiveUnits", "W.m^-2.sr^-1")?;
+    }
+    for (k, v) in extra {
+        text(k, v)?;
+    }
+    let layer = Layer::new(
+        size,
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels.into()),
+    );
+    let image = Image::empty(attrs).with_layer(layer);
+    super::write_atomic(path, |tmp| {
+        image.write().to_file(tmp).map_err(|e| e.to_string())
+    })
+}

@@ -1,0 +1,105 @@
+//! Rays, and spawning them off surfaces without self-intersection at any scene scale.
+//!
+//! Each hit point carries a conservative bound on its rounding error (`p_error`); a new ray
+//! starts just outside that error box along the geometric normal, rounded away from the surface.
+//! Unlike a fixed epsilon this neither leaks light in a 1e-4-sized scene nor shows acne in a
+//! 1e5-sized one (Pharr, Jakob & Humphreys, PBR 4th ed., §6.8).
+
+use crate::math::float::{next_float_down, next_float_up};
+use glam::Vec3;
+
+/// A ray with unit direction; it covers distances (0, t_max).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    pub o: Vec3,
+    pub d: Vec3,
+    pub t_max: f32,
+}
+
+/// Shadow rays stop this fraction short of their target, on top of the target's own offset.
+pub const SHADOW_EPSILON: f32 = 1e-4;
+
+impl Ray {
+    pub fn new(o: Vec3, d: Vec3) -> Self {
+        Self {
+            o,
+            d,
+            t_max: f32::INFINITY,
+        }
+    }
+
+    #[inline]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.o + self.d * t
+    }
+}
+
+/// Moves `p` (with error bound `p_error`) off its surface of normal `n`, to the side `w` points to.
+#[inline]
+pub fn offset_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
+    let dist = n.abs().dot(p_error);
+    let mut offset = n * dist;
+    if w.dot(n) < 0.0 {
+        offset = -offset;
+    }
+    let mut po = p + offset;
+    for i in 0..3 {
+        if offset[i] > 0.0 {
+            po[i] = next_float_up(po[i]);
+        } else if offset[i] < 0.0 {
+            po[i] = next_float_down(po[i]);
+        }
+    }
+    po
+}
+
+/// A ray leaving a surface point in unit direction `d`.
+#[inline]
+pub fn spawn(p: Vec3, p_error: Vec3, n: Vec3, d: Vec3) -> Ray {
+    Ray::new(offset_origin(p, p_error, n, d), d)
+}
+
+/// A shadow ray from a surface point to a target point (itself offset from its surface if it
+/// has one, `target_n` = None for a point in space). Returns the ray and the distance.
+#[inline]
+pub fn spawn_to(
+    p: Vec3,
+    p_error: Vec3,
+    n: Vec3,
+    target: Vec3,
+    target_error: Vec3,
+    target_n: Option<Vec3>,
+) -> Ray {
+    let o = offset_origin(p, p_error, n, target - p);
+    let t = match target_n {
+        Some(tn) => offset_origin(target, target_error, tn, o - target),
+        None => target,
+    };
+    let to = t - o;
+    let dist = to.length();
+    Ray {
+        o,
+        d: to / dist,
+        t_max: dist * (1.0 - SHADOW_EPSILON),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offset_lands_on_the_requested_side() {
+        for scale in [1e-4f32, 1.0, 1e5] {
+            let p = Vec3::new(0.3, 0.7, 0.0) * scale;
+            let err = Vec3::splat(1e-7) * scale;
+            let up = offset_origin(p, err, Vec3::Z, Vec3::new(0.1, 0.0, 1.0));
+            let down = offset_origin(p, err, Vec3::Z, Vec3::new(0.1, 0.0, -1.0));
+            assert!(up.z > 0.0 && down.z < 0.0, "scale {scale}");
+            assert!(
+                up.z <= 1e-6 * scale,
+                "offset is proportional to the error bound"
+            );
+        }
+    }
+}

@@ -1,0 +1,470 @@
+//! Config → render-ready scene and settings, with every check a user's mistake can trip
+//! reported against the scene file and the field.
+
+use super::Scene;
+use crate::bsdf::Material;
+use crate::camera::Camera;
+use crate::config::{
+    self, spectrum_ctx, EmitterConfig, MaterialConfig, Role, SceneConfig, ShapeKind, TransformOp,
+};
+use crate::emitter::{AreaEmitter, Emitter};
+use crate::error::{Error, InputError};
+use crate::film::FilmChannels;
+use crate::filter::{Filter, FilterConfig};
+use crate::integrator::{RenderSettings, SUPPORTED_LANES};
+use crate::math::Transform;
+use crate::sampler::{SamplerKind, SOBOL_MAX_SPP};
+use crate::sensor::Bands;
+use crate::shape::{mesh_io, Disk, Mesh, Shape, Sphere};
+use crate::spectrum::{Curve, WavelengthSampler};
+use glam::{Mat4, Vec3};
+use std::path::Path;
+
+/// A scene ready to render, with its settings.
+pub struct Job {
+    pub scene: Scene,
+    pub settings: RenderSettings,
+    pub channels: FilmChannels,
+    /// Things worth telling the user that do not stop the render.
+    pub warnings: Vec<String>,
+    /// The configuration it was built from (after command-line overrides).
+    pub config: SceneConfig,
+}
+
+/// Reads, checks and builds the scene file at `path`; `edit` may change the parsed config
+/// first (command-line overrides).
+pub fn load(path: &Path, edit: impl FnOnce(&mut SceneConfig)) -> Result<Job, Error> {
+    let mut cfg = config::parse_file(path)?;
+    edit(&mut cfg);
+    Ok(build(cfg, path)?)
+}
+
+/// As `load`, from text (`file` names it in errors and anchors relative paths).
+pub fn load_str(text: &str, file: &Path) -> Result<Job, Error> {
+    let cfg = config::parse_str(text, file)?;
+    Ok(build(cfg, file)?)
+}
+
+fn check(
+    cond: bool,
+    file: &Path,
+    field: &str,
+    message: impl Into<String>,
+) -> Result<(), InputError> {
+    if cond {
+        Ok(())
+    } else {
+        Err(InputError::new(file, message).field(field))
+    }
+}
+
+fn finite3(v: [f32; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+/// Composes a list of transform steps (the first acts first).
+pub fn transform(ops: &[TransformOp], file: &Path, field: &str) -> Result<Transform, InputError> {
+    let mut m = Mat4::IDENTITY;
+    for (i, op) in ops.iter().enumerate() {
+        let f = format!("{field}[{i}]");
+        let step = match op {
+            TransformOp::Matrix(rows) => {
+                check(
+                    rows.iter().flatten().all(|v| v.is_finite()),
+                    file,
+                    &f,
+                    "the matrix has non-finite entries",
+                )?;
+                Mat4::from_cols_array_2d(rows).transpose()
+            }
+            TransformOp::Translate(t) => {
+                check(
+                    finite3(*t),
+                    file,
+                    &f,
+                    "the translation has non-finite components",
+                )?;
+                Mat4::from_translation(Vec3::from(*t))
+            }
+            TransformOp::Scale(s) => {
+                check(
+                    finite3(*s) && s.iter().all(|&v| v != 0.0),
+                    file,
+                    &f,
+                    format!("scale {s:?} must be finite and non-zero"),
+                )?;
+                Mat4::from_scale(Vec3::from(*s))
+            }
+            TransformOp::Rotate { axis, angle } => {
+                let a = Vec3::from(*axis);
+                check(
+                    finite3(*axis) && a.length() > 0.0 && angle.is_finite(),
+                    file,
+                    &f,
+                    "the rotation needs a non-zero finite axis and a finite angle",
+                )?;
+                Mat4::from_axis_angle(a.normalize(), angle.to_radians())
+            }
+            TransformOp::LookAt { origin, target, up } => {
+                let t = Transform::look_at((*origin).into(), (*target).into(), (*up).into()).ok_or_else(|| {
+                    InputError::new(file, "look-at needs distinct origin and target and an up vector not parallel to the view direction")
+                        .field(&f)
+                })?;
+                t.m
+            }
+        };
+        m = step * m;
+    }
+    Transform::from_matrix(m).ok_or_else(|| {
+        InputError::new(
+            file,
+            "the transform is singular (it flattens space) or not finite",
+        )
+        .field(field)
+        .hint("check for a zero scale or a degenerate matrix")
+    })
+}
+
+/// Builds a job from a parsed config.
+pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
+    let mut warnings = Vec::new();
+
+    // Spectral settings come first: spectra are checked over the render's range.
+    let sp = &cfg.spectral;
+    check(
+        SUPPORTED_LANES.contains(&sp.wavelengths),
+        file,
+        "spectral.wavelengths",
+        format!(
+            "{} wavelengths per path is not supported; use one of {SUPPORTED_LANES:?}",
+            sp.wavelengths
+        ),
+    )?;
+    let (lo, hi) = sp.range;
+    check(
+        lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi,
+        file,
+        "spectral.range",
+        format!("the range ({lo}, {hi}) nm must be positive and increasing"),
+    )?;
+    let range = (lo, hi);
+
+    // Camera and film.
+    let c = &cfg.camera;
+    check(
+        c.fov.is_finite() && c.fov > 0.0 && c.fov < 180.0,
+        file,
+        "camera.fov",
+        format!("fov {} must lie in (0, 180) degrees", c.fov),
+    )?;
+    check(
+        c.near_clip.is_finite() && c.near_clip > 0.0,
+        file,
+        "camera.near_clip",
+        format!("near_clip {} must be > 0", c.near_clip),
+    )?;
+    check(
+        c.far_clip > c.near_clip,
+        file,
+        "camera.far_clip",
+        format!(
+            "far_clip {} must exceed near_clip {}",
+            c.far_clip, c.near_clip
+        ),
+    )?;
+    let f = &cfg.film;
+    check(
+        f.width > 0 && f.height > 0,
+        file,
+        "film",
+        format!(
+            "the film size {}×{} must be at least 1×1",
+            f.width, f.height
+        ),
+    )?;
+    check(
+        f.width <= 1 << 15 && f.height <= 1 << 15,
+        file,
+        "film",
+        "the film is larger than 32768 pixels on a side",
+    )?;
+    match f.filter {
+        FilterConfig::Box { radius } => check(
+            radius.is_finite() && radius > 0.0 && radius <= 8.0,
+            file,
+            "film.filter.radius",
+            format!("box radius {radius} must lie in (0, 8] pixels"),
+        )?,
+        FilterConfig::Gaussian { stddev } => check(
+            stddev.is_finite() && stddev > 0.0 && stddev <= 2.0,
+            file,
+            "film.filter.stddev",
+            format!("gaussian stddev {stddev} must lie in (0, 2] pixels"),
+        )?,
+    }
+    let cam_t = transform(&c.to_world, file, "camera.to_world")?;
+    let camera = Camera::new(
+        cam_t,
+        c.fov,
+        c.fov_axis,
+        c.near_clip,
+        c.far_clip,
+        f.width,
+        f.height,
+    );
+
+    // Sampler and integrator.
+    let s = &cfg.sampler;
+    check(s.spp > 0, file, "sampler.spp", "spp must be at least 1")?;
+    if s.kind == SamplerKind::Sobol {
+        check(
+            s.spp <= SOBOL_MAX_SPP,
+            file,
+            "sampler.spp",
+            format!("the Sobol sampler supports at most {SOBOL_MAX_SPP} spp"),
+        )?;
+    }
+    check(
+        cfg.integrator.max_depth >= -1,
+        file,
+        "integrator.max_depth",
+        "max_depth must be −1 (unbounded) or ≥ 0",
+    )?;
+
+    // Outputs.
+    let o = &cfg.outputs;
+    let (blo, bhi) = o.band_range.unwrap_or(range);
+    let bands = match o.bands {
+        Some(0) => None,
+        Some(n) => Some(n),
+        None => Some((((bhi - blo) / 10.0).round() as u32).max(1)),
+    };
+    if bands.is_some() {
+        check(blo.is_finite() && bhi.is_finite() && blo < bhi && blo >= lo && bhi <= hi, file, "outputs.band_range",
+            format!("the band range ({blo}, {bhi}) nm must be increasing and inside the spectral range ({lo}, {hi}) nm"))?;
+    }
+    check(
+        bands.unwrap_or(0) <= 4096,
+        file,
+        "outputs.bands",
+        "more than 4096 spectral bands",
+    )?;
+    check(
+        o.rgb || o.xyz || bands.is_some(),
+        file,
+        "outputs",
+        "no output channels: enable rgb, xyz or bands",
+    )?;
+    if (o.rgb || o.xyz) && (lo > 360.0 || hi < 830.0) {
+        warnings.push(format!(
+            "{}: spectral.range: ({lo}, {hi}) nm does not cover the CIE observer's 360–830 nm; XYZ and RGB integrate only the rendered part",
+            file.display()
+        ));
+    }
+    let channels = FilmChannels {
+        rgb: o.rgb,
+        xyz: o.xyz,
+        bands: bands.map(|count| Bands {
+            lo: blo,
+            hi: bhi,
+            count,
+        }),
+    };
+
+    // Materials (by name, in name order); a default grey diffuse is added if a shape needs one.
+    let mut names: Vec<&String> = cfg.materials.keys().collect();
+    let mut materials = Vec::new();
+    for (name, m) in &cfg.materials {
+        let field = format!("materials.\"{name}\"");
+        materials.push(match m {
+            MaterialConfig::Diffuse { reflectance } => Material::Diffuse {
+                reflectance: reflectance.resolve(
+                    Role::Reflectance,
+                    &spectrum_ctx(file, &format!("{field}.reflectance"), range),
+                    &mut warnings,
+                )?,
+            },
+        });
+    }
+    let mut default_material = None;
+
+    // Shapes and their area emitters.
+    let mut shapes = Vec::new();
+    let mut shape_material = Vec::new();
+    let mut shape_emitter = Vec::new();
+    let mut emitters = Vec::new();
+    let base = file.parent().unwrap_or(Path::new("."));
+    for (i, sc) in cfg.shapes.iter().enumerate() {
+        let field = format!("shapes[{i}]");
+        let t = transform(&sc.to_world, file, &format!("{field}.to_world"))?;
+        let shape = match &sc.shape {
+            ShapeKind::Rectangle => Shape::Mesh(Mesh::rectangle().transformed(&t, sc.flip_normals)),
+            ShapeKind::Cube => Shape::Mesh(Mesh::cube().transformed(&t, sc.flip_normals)),
+            ShapeKind::Disk => Shape::Disk(Disk {
+                to_world: t,
+                flip: sc.flip_normals,
+            }),
+            ShapeKind::Sphere { center, radius } => {
+                check(
+                    finite3(*center) && radius.is_finite() && *radius > 0.0,
+                    file,
+                    &format!("{field}.shape"),
+                    format!("a sphere needs a finite center and a radius > 0 (got {radius})"),
+                )?;
+                let cols = [t.vector(Vec3::X), t.vector(Vec3::Y), t.vector(Vec3::Z)];
+                let s = cols[0].length();
+                let uniform = cols.iter().all(|c| (c.length() - s).abs() <= 1e-4 * s)
+                    && cols[0].dot(cols[1]).abs() <= 1e-4 * s * s
+                    && cols[1].dot(cols[2]).abs() <= 1e-4 * s * s
+                    && cols[0].dot(cols[2]).abs() <= 1e-4 * s * s;
+                check(uniform, file, &format!("{field}.to_world"), "a sphere's transform may only rotate, translate and scale uniformly; use a Mesh for ellipsoids")?;
+                Shape::Sphere(Sphere {
+                    center: t.point(Vec3::from(*center)),
+                    radius: radius * s,
+                    flip: sc.flip_normals,
+                })
+            }
+            ShapeKind::Mesh { path } => {
+                let full = base.join(path);
+                let mesh = mesh_io::load(&full).map_err(|m| {
+                    InputError::new(file, m)
+                        .field(format!("{field}.shape.path"))
+                        .hint("mesh paths are relative to the scene file")
+                })?;
+                Shape::Mesh(mesh.transformed(&t, sc.flip_normals))
+            }
+        };
+        if let Shape::Mesh(m) = &shape {
+            let degenerate = (0..m.indices.len())
+                .filter(|&k| shape.prim_is_degenerate(k))
+                .count();
+            if degenerate == m.indices.len() {
+                return Err(InputError::new(
+                    file,
+                    "every triangle of this shape has zero area (after its transform)",
+                )
+                .field(&field));
+            }
+            if degenerate > 0 {
+                warnings.push(format!(
+                    "{}: {field}: {degenerate} of {} triangles have zero area and are skipped",
+                    file.display(),
+                    m.indices.len()
+                ));
+            }
+        }
+        let mat = match &sc.material {
+            Some(name) => match names.iter().position(|n| *n == name) {
+                Some(k) => k as u32,
+                None => {
+                    let list = if names.is_empty() {
+                        "(none defined)".to_string()
+                    } else {
+                        names
+                            .iter()
+                            .map(|n| format!("\"{n}\""))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    };
+                    return Err(
+                        InputError::new(file, format!("unknown material \"{name}\""))
+                            .field(format!("{field}.material"))
+                            .hint(format!("the materials are: {list}")),
+                    );
+                }
+            },
+            None => *default_material.get_or_insert_with(|| {
+                materials.push(Material::Diffuse {
+                    reflectance: Curve::Constant(0.5),
+                });
+                (materials.len() - 1) as u32
+            }),
+        };
+        let emitter = match &sc.emitter {
+            Some(e) => {
+                let radiance = e.radiance.resolve(
+                    Role::Emission,
+                    &spectrum_ctx(file, &format!("{field}.emitter.radiance"), range),
+                    &mut warnings,
+                )?;
+                emitters.push(Emitter::Area(AreaEmitter::new(
+                    shapes.len() as u32,
+                    &shape,
+                    radiance,
+                )));
+                Some((emitters.len() - 1) as u32)
+            }
+            None => None,
+        };
+        shapes.push(shape);
+        shape_material.push(mat);
+        shape_emitter.push(emitter);
+    }
+    names.clear();
+
+    for (i, e) in cfg.emitters.iter().enumerate() {
+        let field = format!("emitters[{i}]");
+        emitters.push(match e {
+            EmitterConfig::Point {
+                position,
+                intensity,
+            } => {
+                check(
+                    finite3(*position),
+                    file,
+                    &format!("{field}.position"),
+                    "the position must be finite",
+                )?;
+                Emitter::Point {
+                    position: Vec3::from(*position),
+                    intensity: intensity.resolve(
+                        Role::Emission,
+                        &spectrum_ctx(file, &format!("{field}.intensity"), range),
+                        &mut warnings,
+                    )?,
+                }
+            }
+            EmitterConfig::Constant { radiance } => Emitter::Constant {
+                radiance: radiance.resolve(
+                    Role::Emission,
+                    &spectrum_ctx(file, &format!("{field}.radiance"), range),
+                    &mut warnings,
+                )?,
+            },
+        });
+    }
+    if emitters.is_empty() {
+        warnings.push(format!(
+            "{}: the scene has no emitters; the image will be black",
+            file.display()
+        ));
+    }
+
+    let settings = RenderSettings {
+        width: f.width,
+        height: f.height,
+        spp: s.spp,
+        seed: s.seed,
+        sampler: s.kind,
+        lanes: sp.wavelengths,
+        wavelengths: WavelengthSampler::new(sp.sampling, lo, hi),
+        filter: Filter::new(&f.filter),
+        path: cfg.integrator,
+    };
+    let scene = Scene::new(
+        camera,
+        shapes,
+        shape_material,
+        shape_emitter,
+        materials,
+        emitters,
+        cfg.accel,
+    );
+    Ok(Job {
+        scene,
+        settings,
+        channels,
+        warnings,
+        config: cfg,
+    })
+}

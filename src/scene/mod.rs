@@ -1,0 +1,115 @@
+//! The render-ready scene: world-space shapes with their materials and emitters, the camera,
+//! and the acceleration structure. `scene::load` builds it from a config; the integrator only
+//! reads it.
+
+mod build;
+
+use crate::accel::{Accel, AccelKind, Prim};
+use crate::bsdf::Material;
+use crate::camera::Camera;
+use crate::emitter::Emitter;
+use crate::interaction::SurfaceInteraction;
+use crate::ray::Ray;
+use crate::shape::Shape;
+pub use build::{load, load_str, Job};
+
+pub struct Scene {
+    pub camera: Camera,
+    pub shapes: Vec<Shape>,
+    /// Material of each shape (index into `materials`).
+    pub shape_material: Vec<u32>,
+    /// Emitter of each shape, if it is an area light (index into `emitters`).
+    pub shape_emitter: Vec<Option<u32>>,
+    pub materials: Vec<Material>,
+    pub emitters: Vec<Emitter>,
+    /// Indices of the emitters at infinity (looked up when a ray escapes).
+    pub environment: Vec<u32>,
+    accel: Accel,
+    /// Shape of each scene-wide primitive id, and each shape's first id.
+    prim_shape: Vec<u32>,
+    shape_first_prim: Vec<u32>,
+}
+
+impl Scene {
+    /// Assembles a scene and builds its acceleration structure. Primitives with zero area or
+    /// non-finite coordinates are left out of it (they could only produce NaNs).
+    pub fn new(
+        camera: Camera,
+        shapes: Vec<Shape>,
+        shape_material: Vec<u32>,
+        shape_emitter: Vec<Option<u32>>,
+        materials: Vec<Material>,
+        emitters: Vec<Emitter>,
+        accel: AccelKind,
+    ) -> Scene {
+        let mut prim_shape = Vec::new();
+        let mut shape_first_prim = Vec::with_capacity(shapes.len());
+        let mut prims = Vec::new();
+        for (si, shape) in shapes.iter().enumerate() {
+            shape_first_prim.push(prim_shape.len() as u32);
+            for i in 0..shape.prim_count() {
+                let id = prim_shape.len() as u32;
+                prim_shape.push(si as u32);
+                if !shape.prim_is_degenerate(i) {
+                    prims.push(Prim {
+                        id,
+                        geom: shape.prim_geom(i),
+                    });
+                }
+            }
+        }
+        let environment = emitters
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.is_environment())
+            .map(|(i, _)| i as u32)
+            .collect();
+        Scene {
+            camera,
+            shapes,
+            shape_material,
+            shape_emitter,
+            materials,
+            emitters,
+            environment,
+            accel: Accel::build(prims, accel),
+            prim_shape,
+            shape_first_prim,
+        }
+    }
+
+    /// The closest surface along `ray`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        let h = self.accel.intersect(ray)?;
+        let shape = self.prim_shape[h.prim as usize];
+        let local = h.prim - self.shape_first_prim[shape as usize];
+        let s = self.shapes[shape as usize].surface(local as usize, ray, &h.hit);
+        Some(SurfaceInteraction {
+            p: s.p,
+            p_error: s.p_error,
+            ng: s.ng,
+            frame: s.frame,
+            uv: s.uv,
+            t: h.hit.t,
+            shape,
+            prim: local,
+        })
+    }
+
+    /// True if something blocks `ray` before its `t_max`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.accel.occluded(ray)
+    }
+
+    /// Scene bounds (min, max).
+    pub fn bounds(&self) -> (glam::Vec3, glam::Vec3) {
+        self.accel.bounds()
+    }
+
+    /// Number of primitives in the acceleration structure's input (before degenerate removal).
+    pub fn primitive_count(&self) -> usize {
+        self.prim_shape.len()
+    }
+}

@@ -1,0 +1,156 @@
+//! Watertight ray/triangle intersection (Woop, Benthin & Wald, JCGT 2013): rays that hit a shared
+//! edge or vertex hit at least one of the triangles, so meshes have no cracks for light to leak.
+
+use crate::ray::Ray;
+use glam::Vec3;
+
+/// Per-ray constants of the watertight test: the axis permutation and shear.
+#[derive(Clone, Copy, Debug)]
+pub struct RayShear {
+    o: Vec3,
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+impl RayShear {
+    #[inline]
+    pub fn new(ray: &Ray) -> Self {
+        let a = ray.d.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z {
+                0
+            } else {
+                2
+            }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if ray.d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = 1.0 / ray.d[kz];
+        Self {
+            o: ray.o,
+            kx,
+            ky,
+            kz,
+            sx: ray.d[kx] * sz,
+            sy: ray.d[ky] * sz,
+            sz,
+        }
+    }
+}
+
+/// A hit: distance and barycentrics (b1, b2) of vertices 1 and 2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriHit {
+    pub t: f32,
+    pub b1: f32,
+    pub b2: f32,
+}
+
+#[inline]
+pub fn intersect(s: &RayShear, t_max: f32, v: &[Vec3; 3]) -> Option<TriHit> {
+    let a = v[0] - s.o;
+    let b = v[1] - s.o;
+    let c = v[2] - s.o;
+    let (ax, ay) = (a[s.kx] - s.sx * a[s.kz], a[s.ky] - s.sy * a[s.kz]);
+    let (bx, by) = (b[s.kx] - s.sx * b[s.kz], b[s.ky] - s.sy * b[s.kz]);
+    let (cx, cy) = (c[s.kx] - s.sx * c[s.kz], c[s.ky] - s.sy * c[s.kz]);
+    let mut u = cx * by - cy * bx;
+    let mut w_ = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    // Exactly zero edge functions are ambiguous in f32: redo them in f64 (rare).
+    if u == 0.0 || w_ == 0.0 || w == 0.0 {
+        u = (cx as f64 * by as f64 - cy as f64 * bx as f64) as f32;
+        w_ = (ax as f64 * cy as f64 - ay as f64 * cx as f64) as f32;
+        w = (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32;
+    }
+    if (u < 0.0 || w_ < 0.0 || w < 0.0) && (u > 0.0 || w_ > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + w_ + w;
+    if det == 0.0 {
+        return None;
+    }
+    let (az, bz, cz) = (s.sz * a[s.kz], s.sz * b[s.kz], s.sz * c[s.kz]);
+    let t_scaled = u * az + w_ * bz + w * cz;
+    // t must lie in (0, t_max); compare before dividing, with det's sign folded in.
+    let sign_det = det.signum();
+    let ts = t_scaled * sign_det;
+    if ts <= 0.0 || ts >= t_max * det.abs() {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let t = t_scaled * inv;
+    if t.is_nan() || t <= 0.0 {
+        return None;
+    }
+    Some(TriHit {
+        t,
+        b1: w_ * inv,
+        b2: w * inv,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hits_inside_misses_outside() {
+        let tri = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let r = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
+        let h = intersect(&RayShear::new(&r), f32::INFINITY, &tri).unwrap();
+        assert!((h.t - 1.0).abs() < 1e-6);
+        assert!((h.b1 - 0.25).abs() < 1e-6 && (h.b2 - 0.25).abs() < 1e-6);
+        let miss = Ray::new(Vec3::new(0.75, 0.75, 1.0), -Vec3::Z);
+        assert!(intersect(&RayShear::new(&miss), f32::INFINITY, &tri).is_none());
+        assert!(
+            intersect(&RayShear::new(&r), 0.5, &tri).is_none(),
+            "beyond t_max"
+        );
+        let behind = Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::Z);
+        assert!(intersect(&RayShear::new(&behind), f32::INFINITY, &tri).is_none());
+    }
+
+    #[test]
+    fn shared_edge_is_watertight() {
+        // Two triangles sharing the diagonal of the unit square; rays along the diagonal must
+        // hit one of them.
+        let t1 = [
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        let t2 = [
+            Vec3::ZERO,
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        for i in 0..1000 {
+            let x = i as f32 / 1000.0 * 0.98 + 0.01;
+            let r = Ray::new(
+                Vec3::new(x, x, 3.0),
+                Vec3::new(0.001, -0.002, -1.0).normalize(),
+            );
+            let s = RayShear::new(&r);
+            let r2 = Ray::new(r.o - r.d * 0.0, r.d);
+            let hit =
+                intersect(&s, r2.t_max, &t1).is_some() || intersect(&s, r2.t_max, &t2).is_some();
+            assert!(hit, "ray {i} leaked through the shared edge");
+        }
+    }
+}

@@ -1,0 +1,467 @@
+//! Fitting of the RGB-to-spectrum coefficient table of Jakob & Hanika, "A Low-Dimensional
+//! Function Space for Efficient Spectral Upsampling" (EG 2019).
+//!
+//! A reflectance is `s(λ) = S(c0 λ² + c1 λ + c2)` with `S(x) = 1/2 + x / (2 sqrt(1 + x²))`. For a
+//! linear sRGB colour we solve for `c` so that the spectrum, lit by D65 and seen by the CIE 1931
+//! 2° observer, has that colour. The residual is the CIELAB difference (perceptually even, so the
+//! solver spends its accuracy evenly across dark and bright colours), driven to zero by Newton
+//! steps on the square 3×3 system with an analytic Jacobian.
+//!
+//! This file has no dependencies beyond `std`: `build.rs` includes it (with `table.rs` as its
+//! sibling, so `super::table` resolves there as in the crate) to fit the table at build time; the
+//! crate compiles it too so tests can check the fit and the runtime can decode the table.
+
+use super::table;
+use std::sync::atomic::{AtomicUsize, Ordering};
+pub static EVALS: AtomicUsize = AtomicUsize::new(0); // TMPDIAG
+
+/// The integration range (nm): that of the CIE 1931 data in `spectra/cmf`.
+pub const LAMBDA_MIN: f64 = 360.0;
+pub const LAMBDA_MAX: f64 = 830.0;
+
+/// XYZ -> linear sRGB (D65 white).
+pub const XYZ_TO_SRGB: [[f64; 3]; 3] = [
+    [3.2404542, -1.5371385, -0.4985314],
+    [-0.9692660, 1.8760108, 0.0415560],
+    [0.0556434, -0.2040259, 1.0572252],
+];
+
+/// Linear sRGB -> XYZ (D65 white), the inverse of [`XYZ_TO_SRGB`].
+pub const SRGB_TO_XYZ: [[f64; 3]; 3] = [
+    [0.4124564, 0.3575761, 0.1804375],
+    [0.2126729, 0.7151522, 0.0721750],
+    [0.0193339, 0.1191920, 0.9503041],
+];
+
+/// Bound on each coefficient in the normalised wavelength variable. Colours on the sRGB gamut's
+/// boundary (and black/white) are reached only as the sigmoid tends to a step, i.e. as the
+/// coefficients diverge; the bound keeps them finite and the table smooth enough to interpolate.
+/// At 200 the steepest transition spans about 470 nm / 200 ≈ 2 nm, below what the 1 nm
+/// integration grid and the CMFs resolve.
+const C_MAX: f64 = 200.0;
+/// Convergence threshold on the CIELAB residual ΔE; Newton converges quadratically, so going
+/// well below the 1e-3 that matters costs about one extra iteration.
+const TOLERANCE: f64 = 1e-6;
+const MAX_ITERATIONS: usize = 40;
+/// Step halvings tried before giving up on a direction (only far starts need any).
+const MAX_HALVINGS: usize = 12;
+
+/// The colorimetric data of the fit, sampled on one wavelength grid.
+#[derive(Debug, Clone)]
+pub struct FitData {
+    /// Wavelengths (nm) of the quadrature nodes.
+    pub lambda: Vec<f64>,
+    /// CIE 1931 2° x̄ȳz̄ at `lambda`.
+    pub cmf: Vec<[f64; 3]>,
+    /// D65 relative power at `lambda` (linearly interpolated from its 5 nm table).
+    pub illum: Vec<f64>,
+    /// `lambda` mapped to [0, 1] over [LAMBDA_MIN, LAMBDA_MAX]: the optimisation variable,
+    /// which keeps the three polynomial terms of similar size (good conditioning).
+    t: Vec<f64>,
+    /// Quadrature weight × illuminant × CMF, normalised so the illuminant has Y = 1:
+    /// XYZ = Σ_k weights[k] s(λ_k).
+    weights: Vec<[f64; 3]>,
+    /// XYZ of the illuminant itself (s = 1), the CIELAB reference white.
+    white: [f64; 3],
+}
+
+/// Result of [`FitData::fit_one`].
+#[derive(Debug, Clone, Copy)]
+pub struct Fit {
+    /// Coefficients in the normalised wavelength variable (see [`FitData::to_nm`]).
+    pub coeffs: [f64; 3],
+    /// CIELAB distance ΔE between the spectrum's colour and the target.
+    pub residual: f64,
+}
+
+impl FitData {
+    /// Builds the data from the texts of `spectra/cmf/CIE1931_2deg.txt` (1 nm) and
+    /// `spectra/illuminants/D65.txt`. Integration is composite Simpson on the 1 nm CMF grid over
+    /// 360–830 nm (470 intervals), with D65 linearly interpolated onto it.
+    pub fn from_texts(cmf_text: &str, d65_text: &str) -> Result<FitData, String> {
+        let cmf = table::parse(cmf_text).map_err(|e| format!("CMF table: {e}"))?;
+        let d65 = table::parse(d65_text).map_err(|e| format!("D65 table: {e}"))?;
+        if cmf.values.len() != 3 {
+            return Err("CMF table: expected 3 value columns (x y z)".into());
+        }
+        let lambda: Vec<f64> = cmf
+            .wavelengths
+            .iter()
+            .copied()
+            .filter(|&l| (LAMBDA_MIN..=LAMBDA_MAX).contains(&l))
+            .collect();
+        let n = lambda.len();
+        // Simpson needs an even number of equal intervals spanning the whole range.
+        let h = (LAMBDA_MAX - LAMBDA_MIN) / (n.max(2) - 1) as f64;
+        let uniform = lambda
+            .iter()
+            .enumerate()
+            .all(|(k, &l)| (l - (LAMBDA_MIN + k as f64 * h)).abs() < 1e-9);
+        if n < 3 || n % 2 == 0 || !uniform || lambda[0] != LAMBDA_MIN || lambda[n - 1] != LAMBDA_MAX
+        {
+            return Err(
+                "CMF table: need an odd number of uniformly spaced samples over 360-830 nm".into(),
+            );
+        }
+        let cmf_values: Vec<[f64; 3]> = lambda
+            .iter()
+            .map(|&l| [0, 1, 2].map(|c| cmf.interpolate(c, l)))
+            .collect();
+        let illum: Vec<f64> = lambda.iter().map(|&l| d65.interpolate(0, l)).collect();
+        let simpson = |k: usize| {
+            h / 3.0
+                * if k == 0 || k == n - 1 {
+                    1.0
+                } else if k % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                }
+        };
+        let mut weights: Vec<[f64; 3]> = (0..n)
+            .map(|k| cmf_values[k].map(|v| simpson(k) * illum[k] * v))
+            .collect();
+        let y_white: f64 = weights.iter().map(|w| w[1]).sum();
+        if y_white.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return Err("D65 × ȳ integrates to zero".into());
+        }
+        for w in &mut weights {
+            *w = w.map(|v| v / y_white);
+        }
+        let mut white = [0.0; 3];
+        for w in &weights {
+            for c in 0..3 {
+                white[c] += w[c];
+            }
+        }
+        let t = lambda
+            .iter()
+            .map(|&l| (l - LAMBDA_MIN) / (LAMBDA_MAX - LAMBDA_MIN))
+            .collect();
+        Ok(FitData {
+            lambda,
+            cmf: cmf_values,
+            illum,
+            t,
+            weights,
+            white,
+        })
+    }
+
+    /// XYZ (illuminant Y = 1) of the reflectance `s` under the illuminant.
+    pub fn xyz(&self, s: impl Fn(f64) -> f64) -> [f64; 3] {
+        let mut xyz = [0.0; 3];
+        for (w, &l) in self.weights.iter().zip(&self.lambda) {
+            let v = s(l);
+            for c in 0..3 {
+                xyz[c] += w[c] * v;
+            }
+        }
+        xyz
+    }
+
+    /// CIELAB of `xyz` relative to the illuminant's white.
+    pub fn lab(&self, xyz: [f64; 3]) -> [f64; 3] {
+        let f = [0, 1, 2].map(|c| lab_f(xyz[c] / self.white[c]).0);
+        [
+            116.0 * f[1] - 16.0,
+            500.0 * (f[0] - f[1]),
+            200.0 * (f[1] - f[2]),
+        ]
+    }
+
+    /// CIELAB of the spectrum with normalised coefficients `c`, and its Jacobian
+    /// `jac[row][j] = ∂Lab[row] / ∂c[j]`.
+    fn lab_and_jacobian(&self, c: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+        EVALS.fetch_add(1, Ordering::Relaxed); // TMPDIAG
+                                               // One pass accumulates XYZ and ∂XYZ/∂c; S'(x) = 1 / (2 (1 + x²)^{3/2}).
+        let mut xyz = [0.0; 3];
+        let mut dxyz = [[0.0; 3]; 3];
+        for (w, &t) in self.weights.iter().zip(&self.t) {
+            let x = (c[0] * t + c[1]) * t + c[2];
+            let r = 1.0 / (1.0 + x * x).sqrt();
+            let s = 0.5 + 0.5 * x * r;
+            let ds = 0.5 * r * r * r;
+            let basis = [t * t, t, 1.0];
+            for k in 0..3 {
+                xyz[k] += w[k] * s;
+                let d = w[k] * ds;
+                for j in 0..3 {
+                    dxyz[k][j] += d * basis[j];
+                }
+            }
+        }
+        let mut f = [0.0; 3];
+        let mut df = [0.0; 3]; // ∂f(X/Xn)/∂X etc.
+        for k in 0..3 {
+            let (v, d) = lab_f(xyz[k] / self.white[k]);
+            f[k] = v;
+            df[k] = d / self.white[k];
+        }
+        let lab = [
+            116.0 * f[1] - 16.0,
+            500.0 * (f[0] - f[1]),
+            200.0 * (f[1] - f[2]),
+        ];
+        let mut jac = [[0.0; 3]; 3];
+        for j in 0..3 {
+            let (fx, fy, fz) = (df[0] * dxyz[0][j], df[1] * dxyz[1][j], df[2] * dxyz[2][j]);
+            jac[0][j] = 116.0 * fy;
+            jac[1][j] = 500.0 * (fx - fy);
+            jac[2][j] = 200.0 * (fy - fz);
+        }
+        (lab, jac)
+    }
+
+    /// Solves for the normalised coefficients whose spectrum has linear sRGB colour `rgb`,
+    /// starting from `start` (a neighbouring solution, or zeros: the flat 0.5 spectrum).
+    /// Damped Newton: a step is halved until it lowers ΔE; the iteration stops at convergence,
+    /// or when no step helps (a target outside the bounded model's reach, e.g. black).
+    pub fn fit_one(&self, rgb: [f64; 3], start: [f64; 3]) -> Fit {
+        let target = self.lab(mat_vec(&SRGB_TO_XYZ, rgb));
+        let mut c = bound(start);
+        let (mut lab, mut jac) = self.lab_and_jacobian(c);
+        let mut err = dist(lab, target);
+        for _ in 0..MAX_ITERATIONS {
+            if err < TOLERANCE {
+                break;
+            }
+            let r = [0, 1, 2].map(|k| target[k] - lab[k]);
+            let Some(step) = solve3(jac, r) else { break };
+            let mut alpha = 1.0;
+            let mut improved = false;
+            for _ in 0..MAX_HALVINGS {
+                let trial = bound([0, 1, 2].map(|j| c[j] + alpha * step[j]));
+                let (lab_t, jac_t) = self.lab_and_jacobian(trial);
+                let err_t = dist(lab_t, target);
+                if err_t < err {
+                    (c, lab, jac, err) = (trial, lab_t, jac_t, err_t);
+                    improved = true;
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            if !improved {
+                break;
+            }
+        }
+        Fit {
+            coeffs: c,
+            residual: err,
+        }
+    }
+
+    /// Converts normalised coefficients (polynomial in t = (λ - 360) / 470) to coefficients of
+    /// the polynomial in λ (nm).
+    pub fn to_nm(c: [f64; 3]) -> [f64; 3] {
+        let (a, w) = (LAMBDA_MIN, LAMBDA_MAX - LAMBDA_MIN);
+        [
+            c[0] / (w * w),
+            c[1] / w - 2.0 * a * c[0] / (w * w),
+            c[0] * a * a / (w * w) - c[1] * a / w + c[2],
+        ]
+    }
+}
+
+/// CIELAB's f(u) and its derivative.
+fn lab_f(u: f64) -> (f64, f64) {
+    const DELTA: f64 = 6.0 / 29.0;
+    if u > DELTA * DELTA * DELTA {
+        let f = u.cbrt();
+        (f, 1.0 / (3.0 * f * f))
+    } else {
+        let d = 1.0 / (3.0 * DELTA * DELTA);
+        (u * d + 4.0 / 29.0, d)
+    }
+}
+
+fn bound(c: [f64; 3]) -> [f64; 3] {
+    // Scaling the whole vector (rather than clipping components) keeps the polynomial's roots,
+    // i.e. where the spectrum crosses 1/2, and only limits how sharp the transitions get.
+    let m = c.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if m > C_MAX {
+        c.map(|v| v * (C_MAX / m))
+    } else {
+        c
+    }
+}
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+pub fn mat_vec(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    m.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
+}
+
+/// Solves `a x = b` by Gaussian elimination with partial pivoting; `None` if singular.
+fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
+    for col in 0..3 {
+        let p = (col..3).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if a[p][col].abs() < 1e-300 || !a[p][col].is_finite() {
+            return None;
+        }
+        a.swap(col, p);
+        b.swap(col, p);
+        for row in col + 1..3 {
+            let f = a[row][col] / a[col][col];
+            for k in col..3 {
+                a[row][k] -= f * a[col][k];
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = [0.0; 3];
+    for row in (0..3).rev() {
+        let s: f64 = (row + 1..3).map(|k| a[row][k] * x[k]).sum();
+        x[row] = (b[row] - s) / a[row][row];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// The fitted table. Entry `(i, zi, yi, xi)` holds, in nm coefficients, the spectrum of the
+/// colour whose largest component `i` is `scale[zi]` and whose next components (cyclically) are
+/// `xi / (res - 1)` and `yi / (res - 1)` times it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoeffTable {
+    pub res: usize,
+    /// The z sample positions, denser near 0 and 1 where spectra change fastest.
+    pub scale: Vec<f32>,
+    /// `data[(((i * res + zi) * res + yi) * res + xi) * 3 + c]`.
+    pub data: Vec<f32>,
+}
+
+/// Identifies the binary format (and its version) of [`CoeffTable::to_bytes`].
+const MAGIC: &[u8; 8] = b"PRSMSIG1";
+
+impl CoeffTable {
+    /// Serialises as: magic, `res` (u32), `scale`, `data` — all little-endian.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(12 + 4 * (self.scale.len() + self.data.len()));
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&(self.res as u32).to_le_bytes());
+        for v in self.scale.iter().chain(&self.data) {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        out
+    }
+
+    /// Inverse of [`CoeffTable::to_bytes`]; checks the magic and that the size matches `res`.
+    pub fn from_bytes(bytes: &[u8]) -> Result<CoeffTable, String> {
+        if bytes.len() < 12 || &bytes[..8] != MAGIC {
+            return Err("not a prism sigmoid coefficient table (bad magic)".into());
+        }
+        let res = u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize;
+        let (n_scale, n_data) = (res, 9 * res * res * res);
+        if res < 2 || bytes.len() != 12 + 4 * (n_scale + n_data) {
+            return Err(format!(
+                "coefficient table: size {} does not match res {res}",
+                bytes.len()
+            ));
+        }
+        let floats: Vec<f32> = bytes[12..]
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect();
+        Ok(CoeffTable {
+            res,
+            scale: floats[..n_scale].to_vec(),
+            data: floats[n_scale..].to_vec(),
+        })
+    }
+}
+
+fn smoothstep(x: f64) -> f64 {
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// The z positions of the table: `smoothstep(smoothstep(k / (res - 1)))`.
+pub fn scale(res: usize) -> Vec<f64> {
+    (0..res)
+        .map(|k| smoothstep(smoothstep(k as f64 / (res - 1) as f64)))
+        .collect()
+}
+
+/// Fits the whole table. The 3 × `res` columns (i, xi) are independent and distributed over
+/// `available_parallelism` threads; within a column, each solution starts from its neighbour's
+/// (continuation), so Newton needs only a few iterations per entry. The result does not depend
+/// on the thread count.
+pub fn fit_table(data: &FitData, res: usize) -> CoeffTable {
+    assert!(res >= 2, "table resolution must be at least 2");
+    let scale = scale(res);
+    let n_jobs = 3 * res;
+    let next = AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(n_jobs);
+    let columns: Vec<(usize, Vec<[f32; 3]>)> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let job = next.fetch_add(1, Ordering::Relaxed);
+                        if job >= n_jobs {
+                            break done;
+                        }
+                        done.push((job, fit_column(data, &scale, job / res, job % res)));
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().expect("fit thread panicked"))
+            .collect()
+    });
+    let mut table = vec![0.0f32; 9 * res * res * res];
+    for (job, column) in columns {
+        let (i, xi) = (job / res, job % res);
+        for zi in 0..res {
+            for yi in 0..res {
+                let at = (((i * res + zi) * res + yi) * res + xi) * 3;
+                table[at..at + 3].copy_from_slice(&column[zi * res + yi]);
+            }
+        }
+    }
+    CoeffTable {
+        res,
+        scale: scale.iter().map(|&v| v as f32).collect(),
+        data: table,
+    }
+}
+
+/// Fits the entries (zi, yi) of column (i, xi); returns nm coefficients indexed `zi * res + yi`.
+fn fit_column(data: &FitData, scale: &[f64], i: usize, xi: usize) -> Vec<[f32; 3]> {
+    let res = scale.len();
+    // Continuation starts at a dark-but-not-black z, where the flat start (c = 0) is close
+    // enough for Newton, then walks up and down in z.
+    let start = res / 5;
+    let x = xi as f64 / (res - 1) as f64;
+    let mut out = vec![[0.0f32; 3]; res * res];
+    // The start entry of each y row seeds the next row's start entry.
+    let mut seed = [0.0; 3];
+    for yi in 0..res {
+        let y = yi as f64 / (res - 1) as f64;
+        let mut solve = |zi: usize, from: [f64; 3]| {
+            let z = scale[zi];
+            let mut rgb = [0.0; 3];
+            rgb[i] = z;
+            rgb[(i + 1) % 3] = x * z;
+            rgb[(i + 2) % 3] = y * z;
+            let c = data.fit_one(rgb, from).coeffs;
+            out[zi * res + yi] = FitData::to_nm(c).map(|v| v as f32);
+            c
+        };
+        seed = solve(start, seed);
+        let mut c = seed;
+        for zi in start + 1..res {
+            c = solve(zi, c);
+        }
+        c = seed;
+        for zi in (0..start).rev() {
+            c = solve(zi, c);
+        }
+    }
+    out
+}

@@ -1,0 +1,249 @@
+//! The `prism` command: renders, writes its outputs, and meets bad input with a clear error
+//! (file, place, fix) on stderr, exit code 2, and no output file.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn prism() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_prism"))
+}
+
+fn workdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("prism-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+const GOOD: &str = r#"(
+    film: (width: 16, height: 12),
+    sampler: (spp: 4),
+    materials: { "grey": Diffuse(reflectance: Constant(0.5)) },
+    shapes: [(shape: Sphere(center: (0, 0, 4)), material: "grey")],
+    emitters: [Constant(radiance: Named("D65"))],
+)"#;
+
+/// Runs `prism render` on `scene_text`; returns (exit code, stderr, whether the EXR exists).
+fn run(name: &str, scene_text: &str, extra: &[&str]) -> (i32, String, bool) {
+    let dir = workdir(name);
+    let scene = dir.join("scene.ron");
+    std::fs::write(&scene, scene_text).unwrap();
+    let out = dir.join("out.exr");
+    let o = prism()
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .args(extra)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+        out.exists(),
+    )
+}
+
+fn assert_input_error(name: &str, scene_text: &str, extra: &[&str], needles: &[&str]) {
+    let (code, err, written) = run(name, scene_text, extra);
+    assert_eq!(code, 2, "{name}: exit code {code}, stderr:\n{err}");
+    assert!(!written, "{name}: an output file was written");
+    assert!(err.starts_with("error: "), "{name}: {err}");
+    assert!(!err.contains("panicked"), "{name}: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{name}: stderr lacks `{n}`:\n{err}");
+    }
+}
+
+#[test]
+fn renders_and_writes_outputs() {
+    let dir = workdir("good");
+    let scene = dir.join("scene.ron");
+    std::fs::write(&scene, GOOD).unwrap();
+    let (out, png) = (dir.join("a.exr"), dir.join("a.png"));
+    let o = prism()
+        .args(["render"])
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .arg("--preview")
+        .arg(&png)
+        .args(["--spp", "2", "--seed", "4", "--threads", "1"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(out.exists() && png.exists());
+    assert!(
+        err.contains("rendered 16x12 at 2 spp") && err.contains("Msamples/s"),
+        "{err}"
+    );
+    // No temporary files are left beside the outputs.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.contains(".tmp")), "{names:?}");
+}
+
+#[test]
+fn help_documents_the_flags() {
+    let o = prism().args(["render", "--help"]).output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    for flag in [
+        "--output",
+        "--spp",
+        "--seed",
+        "--threads",
+        "--preview",
+        "--exposure",
+    ] {
+        assert!(text.contains(flag), "render --help lacks {flag}");
+    }
+}
+
+#[test]
+fn malformed_ron_reports_line_and_column() {
+    let broken = GOOD.replace("sampler: (spp: 4),", "sampler: (spp: 4,");
+    assert_input_error("malformed", &broken, &[], &["scene.ron:"]);
+    let (_, err, _) = run("malformed2", &broken, &[]);
+    let loc = err.split("scene.ron:").nth(1).unwrap();
+    let nums: Vec<&str> = loc.split(':').take(2).collect();
+    assert!(
+        nums.iter().all(|n| n.trim().parse::<usize>().is_ok()),
+        "no line:column in {err}"
+    );
+}
+
+#[test]
+fn unknown_field_is_named() {
+    assert_input_error(
+        "typo",
+        &GOOD.replace("width: 16", "widht: 16"),
+        &[],
+        &["widht", "scenes/README.md"],
+    );
+}
+
+#[test]
+fn unknown_material_lists_the_valid_ones() {
+    assert_input_error(
+        "material",
+        &GOOD.replace(r#"material: "grey""#, r#"material: "gray""#),
+        &[],
+        &["shapes[0].material", "\"gray\"", "\"grey\""],
+    );
+}
+
+#[test]
+fn unknown_spectrum_name_lists_the_valid_ones() {
+    assert_input_error(
+        "spectrum",
+        &GOOD.replace("Named(\"D65\")", "Named(\"D66\")"),
+        &[],
+        &["emitters[0].radiance", "D66", "D65", "FL11"],
+    );
+}
+
+#[test]
+fn missing_mesh_file() {
+    assert_input_error(
+        "mesh",
+        &GOOD.replace(
+            "Sphere(center: (0, 0, 4))",
+            "Mesh(path: \"nope/bunny.ply\")",
+        ),
+        &[],
+        &["shapes[0].shape.path", "bunny.ply", "does not exist"],
+    );
+}
+
+#[test]
+fn nan_and_negative_values() {
+    assert_input_error(
+        "nan",
+        &GOOD.replace("Constant(0.5)", "Constant(NaN)"),
+        &[],
+        &["materials.\"grey\".reflectance", "finite"],
+    );
+    assert_input_error(
+        "negative",
+        &GOOD.replace("Constant(0.5)", "Tabulated([(400, 0.5), (700, -0.2)])"),
+        &[],
+        &["negative"],
+    );
+    assert_input_error(
+        "above one",
+        &GOOD.replace("Constant(0.5)", "Rgb(1.5, 0.2, 0.2)"),
+        &[],
+        &["[0, 1]"],
+    );
+    assert_input_error(
+        "radius",
+        &GOOD.replace(
+            "Sphere(center: (0, 0, 4))",
+            "Sphere(center: (0, 0, 4), radius: -1)",
+        ),
+        &[],
+        &["radius"],
+    );
+    assert_input_error(
+        "fov",
+        &GOOD.replace("film:", "camera: (fov: 0), film:"),
+        &[],
+        &["camera.fov"],
+    );
+}
+
+#[test]
+fn zero_spp_and_zero_size() {
+    assert_input_error(
+        "spp file",
+        &GOOD.replace("spp: 4", "spp: 0"),
+        &[],
+        &["sampler.spp"],
+    );
+    assert_input_error("spp flag", GOOD, &["--spp", "0"], &["--spp"]);
+    assert_input_error(
+        "size",
+        &GOOD.replace("width: 16", "width: 0"),
+        &[],
+        &["film", "0×12"],
+    );
+}
+
+#[test]
+fn bad_spectrum_file_names_its_line() {
+    let dir = workdir("specfile");
+    std::fs::write(dir.join("paint.txt"), "nm value\n400 0.2\n500 zero\n").unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(
+        &scene,
+        GOOD.replace("Constant(0.5)", "File(path: \"paint.txt\")"),
+    )
+    .unwrap();
+    let o = prism()
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(dir.join("x.exr"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("paint.txt:3:") && err.contains("`zero` is not a number"),
+        "{err}"
+    );
+    assert!(!Path::new(&dir.join("x.exr")).exists());
+}
+
+#[test]
+fn missing_scene_file() {
+    let o = prism()
+        .args(["render", "/nonexistent/scene.ron"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/scene.ron"));
+}
