@@ -38,19 +38,26 @@ impl Ray {
 #[inline]
 pub fn offset_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     let dist = n.abs().dot(p_error);
-    let mut offset = n * dist;
-    if w.dot(n) < 0.0 {
-        offset = -offset;
+    let offset = if w.dot(n) < 0.0 { -n * dist } else { n * dist };
+    let po = p + offset;
+    Vec3::new(
+        step_away(po.x, offset.x),
+        step_away(po.y, offset.y),
+        step_away(po.z, offset.z),
+    )
+}
+
+/// `v` moved by one ulp in the direction of `dir`'s sign (unchanged if `dir` is 0), so rounding
+/// in `p + offset` can never leave the point inside the error box.
+#[inline(always)]
+fn step_away(v: f32, dir: f32) -> f32 {
+    if dir > 0.0 {
+        next_float_up(v)
+    } else if dir < 0.0 {
+        next_float_down(v)
+    } else {
+        v
     }
-    let mut po = p + offset;
-    for i in 0..3 {
-        if offset[i] > 0.0 {
-            po[i] = next_float_up(po[i]);
-        } else if offset[i] < 0.0 {
-            po[i] = next_float_down(po[i]);
-        }
-    }
-    po
 }
 
 /// A ray leaving a surface point in unit direction `d`.

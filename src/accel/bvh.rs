@@ -4,9 +4,9 @@
 use super::{Hit, Prim};
 use crate::ray::Ray;
 use crate::shape::{triangle::RayShear, PrimGeom};
+use glam::UVec2;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::{builder::build_cwbvh, CwBvh};
-use obvhs::ray::RayHit;
 use obvhs::{Boundable, BvhBuildParams};
 use std::time::Duration;
 
@@ -60,28 +60,35 @@ impl Bvh {
         &self.geoms
     }
 
+    /// Closest hit. Uses obvhs' `traverse!` macro so the primitive test inlines into the loop.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let bvh = self.bvh.as_ref()?;
         let shear = RayShear::new(ray);
-        let oray = obvhs::ray::Ray::new(ray.o.into(), ray.d.into(), 0.0, ray.t_max);
+        let mut oray = obvhs::ray::Ray::new(ray.o.into(), ray.d.into(), 0.0, ray.t_max);
         let mut best = None;
-        let mut rh = RayHit::none();
-        bvh.ray_traverse(oray, &mut rh, |r, i| {
-            match self.geoms[i].intersect(ray, &shear, r.tmax) {
-                Some(h) => {
+        let mut state = bvh.new_traversal(oray.direction);
+        let mut node;
+        obvhs::traverse!(
+            bvh,
+            node,
+            state,
+            node.intersect_ray(&oray, state.oct_inv4),
+            {
+                let i = state.primitive_id as usize;
+                if let Some(h) = self.geoms[i].intersect(ray, &shear, oray.tmax) {
+                    oray.tmax = h.t;
                     best = Some(Hit {
                         prim: self.ids[i],
                         hit: h,
                     });
-                    h.t
                 }
-                None => f32::INFINITY,
             }
-        });
+        );
         best
     }
 
+    /// True if any primitive lies on the ray within (0, t_max); stops at the first one found.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
         let Some(bvh) = self.bvh.as_ref() else {
@@ -89,11 +96,26 @@ impl Bvh {
         };
         let shear = RayShear::new(ray);
         let oray = obvhs::ray::Ray::new(ray.o.into(), ray.d.into(), 0.0, ray.t_max);
-        !bvh.ray_traverse_miss(oray, |r, i| {
-            match self.geoms[i].intersect(ray, &shear, r.tmax) {
-                Some(h) => h.t,
-                None => f32::INFINITY,
-            }
-        })
+        let mut state = bvh.new_traversal(oray.direction);
+        let mut node;
+        let mut hit = false;
+        'search: {
+            obvhs::traverse!(
+                bvh,
+                node,
+                state,
+                node.intersect_ray(&oray, state.oct_inv4),
+                {
+                    if self.geoms[state.primitive_id as usize]
+                        .intersect(ray, &shear, oray.tmax)
+                        .is_some()
+                    {
+                        hit = true;
+                        break 'search;
+                    }
+                }
+            );
+        }
+        hit
     }
 }

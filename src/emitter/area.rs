@@ -42,11 +42,11 @@ impl AreaEmitter {
             Shape::Mesh(m) => {
                 let (tri, _, ux) = self.triangles.as_ref().unwrap().sample_discrete(u.x);
                 let b = square_to_triangle(Vec2::new(ux, u.y));
-                let s = m.surface(tri, b.x, b.y);
+                let (p, p_error, n) = m.point(tri, b.x, b.y);
                 AreaSample {
-                    p: s.p,
-                    p_error: s.p_error,
-                    n: s.ng,
+                    p,
+                    p_error,
+                    n,
                     pdf_area: 1.0 / self.area,
                 }
             }

@@ -10,26 +10,28 @@ pub const fn gamma(n: i32) -> f32 {
     (n as f32 * MACHINE_EPSILON) / (1.0 - n as f32 * MACHINE_EPSILON)
 }
 
-/// The next representable f32 above `v` (infinity stays put).
-#[inline]
+/// The next representable f32 above `v` (+∞ and NaN stay put).
+#[inline(always)]
 pub fn next_float_up(v: f32) -> f32 {
-    if v.is_infinite() && v > 0.0 {
+    if v.is_nan() || v == f32::INFINITY {
         return v;
     }
-    let v = if v == -0.0 { 0.0 } else { v };
+    // Integer steps on the bit pattern: +1 moves away from zero for positives, towards zero for
+    // negatives; −0 and +0 both step to the smallest positive subnormal.
     let bits = v.to_bits();
-    f32::from_bits(if v >= 0.0 { bits + 1 } else { bits - 1 })
+    f32::from_bits(if v == 0.0 {
+        1
+    } else if v > 0.0 {
+        bits + 1
+    } else {
+        bits - 1
+    })
 }
 
-/// The next representable f32 below `v`.
-#[inline]
+/// The next representable f32 below `v` (−∞ and NaN stay put).
+#[inline(always)]
 pub fn next_float_down(v: f32) -> f32 {
-    if v.is_infinite() && v < 0.0 {
-        return v;
-    }
-    let v = if v == 0.0 { -0.0 } else { v };
-    let bits = v.to_bits();
-    f32::from_bits(if v > 0.0 { bits - 1 } else { bits + 1 })
+    -next_float_up(-v)
 }
 
 #[cfg(test)]

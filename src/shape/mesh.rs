@@ -1,5 +1,6 @@
 //! Triangle meshes in world space, and the built-in rectangle and cube (Mitsuba 3's shapes).
 
+use crate::math::float::gamma;
 use crate::math::{Frame, Transform};
 use glam::{Vec2, Vec3};
 
@@ -100,46 +101,58 @@ impl Mesh {
         0.5 * (b - a).cross(c - a).length()
     }
 
-    /// Point, normals, frame and uv at barycentrics (b1, b2) of triangle `i`.
+    /// Position, its error bound, and the unit geometric normal at barycentrics (b1, b2) of
+    /// triangle `i`: what emitter sampling needs, without the shading frame.
     #[inline]
-    pub fn surface(&self, i: usize, b1: f32, b2: f32) -> TriangleSurface {
+    pub fn point(&self, i: usize, b1: f32, b2: f32) -> (Vec3, Vec3, Vec3) {
         let [i0, i1, i2] = self.indices[i].map(|v| v as usize);
         let (p0, p1, p2) = (self.positions[i0], self.positions[i1], self.positions[i2]);
         let b0 = 1.0 - b1 - b2;
         // Barycentric interpolation is more accurate than o + t·d, and its error is bounded.
         let p = b0 * p0 + b1 * p1 + b2 * p2;
-        let p_error =
-            crate::math::float::gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
-        let e1 = p1 - p0;
-        let e2 = p2 - p0;
-        let mut ng = e1.cross(e2).normalize_or_zero();
-        let (uv0, uv1, uv2) = if self.uvs.is_empty() {
-            (Vec2::ZERO, Vec2::X, Vec2::Y)
+        let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
+        let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+        if !self.normals.is_empty() {
+            // The geometric normal follows the shading normal's side, so "front" is the side
+            // the vertex normals point to, whatever the winding.
+            let n = b0 * self.normals[i0] + b1 * self.normals[i1] + b2 * self.normals[i2];
+            if ng.dot(n) < 0.0 {
+                ng = -ng;
+            }
+        }
+        (p, p_error, ng)
+    }
+
+    /// Point, normals, shading frame and uv at barycentrics (b1, b2) of triangle `i`.
+    #[inline]
+    pub fn surface(&self, i: usize, b1: f32, b2: f32) -> TriangleSurface {
+        let (p, p_error, ng) = self.point(i, b1, b2);
+        let [i0, i1, i2] = self.indices[i].map(|v| v as usize);
+        let b0 = 1.0 - b1 - b2;
+        let e1 = self.positions[i1] - self.positions[i0];
+        let (uv, dpdu) = if self.uvs.is_empty() {
+            (Vec2::new(b1, b2), e1)
         } else {
-            (self.uvs[i0], self.uvs[i1], self.uvs[i2])
-        };
-        let uv = b0 * uv0 + b1 * uv1 + b2 * uv2;
-        // dp/du from the uv parameterisation, for a tangent that follows the texture.
-        let (duv1, duv2) = (uv1 - uv0, uv2 - uv0);
-        let det = duv1.x * duv2.y - duv1.y * duv2.x;
-        let dpdu = if det.abs() > 1e-12 {
-            (e1 * duv2.y - e2 * duv1.y) / det
-        } else {
-            e1
+            let (uv0, uv1, uv2) = (self.uvs[i0], self.uvs[i1], self.uvs[i2]);
+            // dp/du from the uv parameterisation, for a tangent that follows the texture.
+            let e2 = self.positions[i2] - self.positions[i0];
+            let (duv1, duv2) = (uv1 - uv0, uv2 - uv0);
+            let det = duv1.x * duv2.y - duv1.y * duv2.x;
+            let dpdu = if det.abs() > 1e-12 {
+                (e1 * duv2.y - e2 * duv1.y) / det
+            } else {
+                e1
+            };
+            (b0 * uv0 + b1 * uv1 + b2 * uv2, dpdu)
         };
         let ns = if self.normals.is_empty() {
             ng
         } else {
-            let n = b0 * self.normals[i0] + b1 * self.normals[i1] + b2 * self.normals[i2];
-            let n = n.normalize_or_zero();
+            let n = (b0 * self.normals[i0] + b1 * self.normals[i1] + b2 * self.normals[i2])
+                .normalize_or_zero();
             if n == Vec3::ZERO {
                 ng
             } else {
-                // The geometric normal follows the shading normal's side, so "front" is the side
-                // the vertex normals point to whatever the winding.
-                if ng.dot(n) < 0.0 {
-                    ng = -ng;
-                }
                 n
             }
         };

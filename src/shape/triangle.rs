@@ -4,13 +4,14 @@
 use crate::ray::Ray;
 use glam::Vec3;
 
-/// Per-ray constants of the watertight test: the axis permutation and shear.
+/// Per-ray constants of the watertight test: the axis permutation that makes the ray's largest
+/// direction component z, and the shear that aligns the ray with z.
 #[derive(Clone, Copy, Debug)]
 pub struct RayShear {
     o: Vec3,
-    kx: usize,
-    ky: usize,
-    kz: usize,
+    /// Axis indices (kx, ky, kz); always < 3, and masked with `& 3` on use so that indexing a
+    /// 4-element array needs no bounds check.
+    k: [u8; 3],
     sx: f32,
     sy: f32,
     sz: f32,
@@ -39,13 +40,25 @@ impl RayShear {
         let sz = 1.0 / ray.d[kz];
         Self {
             o: ray.o,
-            kx,
-            ky,
-            kz,
+            k: [kx as u8, ky as u8, kz as u8],
             sx: ray.d[kx] * sz,
             sy: ray.d[ky] * sz,
             sz,
         }
+    }
+
+    /// A vertex relative to the ray origin, permuted and sheared: (x, y) in the ray's frame,
+    /// and the unsheared z (sheared later, only for triangles the ray passes through).
+    #[inline(always)]
+    fn project(&self, v: Vec3) -> (f32, f32, f32) {
+        let d = v - self.o;
+        let p = [d.x, d.y, d.z, 0.0];
+        let (x, y, z) = (
+            p[(self.k[0] & 3) as usize],
+            p[(self.k[1] & 3) as usize],
+            p[(self.k[2] & 3) as usize],
+        );
+        (x - self.sx * z, y - self.sy * z, z)
     }
 }
 
@@ -59,12 +72,9 @@ pub struct TriHit {
 
 #[inline]
 pub fn intersect(s: &RayShear, t_max: f32, v: &[Vec3; 3]) -> Option<TriHit> {
-    let a = v[0] - s.o;
-    let b = v[1] - s.o;
-    let c = v[2] - s.o;
-    let (ax, ay) = (a[s.kx] - s.sx * a[s.kz], a[s.ky] - s.sy * a[s.kz]);
-    let (bx, by) = (b[s.kx] - s.sx * b[s.kz], b[s.ky] - s.sy * b[s.kz]);
-    let (cx, cy) = (c[s.kx] - s.sx * c[s.kz], c[s.ky] - s.sy * c[s.kz]);
+    let (ax, ay, az) = s.project(v[0]);
+    let (bx, by, bz) = s.project(v[1]);
+    let (cx, cy, cz) = s.project(v[2]);
     let mut u = cx * by - cy * bx;
     let mut w_ = ax * cy - ay * cx;
     let mut w = bx * ay - by * ax;
@@ -81,11 +91,10 @@ pub fn intersect(s: &RayShear, t_max: f32, v: &[Vec3; 3]) -> Option<TriHit> {
     if det == 0.0 {
         return None;
     }
-    let (az, bz, cz) = (s.sz * a[s.kz], s.sz * b[s.kz], s.sz * c[s.kz]);
+    let (az, bz, cz) = (s.sz * az, s.sz * bz, s.sz * cz);
     let t_scaled = u * az + w_ * bz + w * cz;
     // t must lie in (0, t_max); compare before dividing, with det's sign folded in.
-    let sign_det = det.signum();
-    let ts = t_scaled * sign_det;
+    let ts = t_scaled * det.signum();
     if ts <= 0.0 || ts >= t_max * det.abs() {
         return None;
     }

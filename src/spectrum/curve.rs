@@ -198,6 +198,13 @@ impl Curve {
             Curve::Rgb { sigmoid, scale } => {
                 Spectrum::from_fn(|i| scale * sigmoid.eval(wl.lambda[i]))
             }
+            Curve::RgbIlluminant {
+                sigmoid,
+                scale,
+                illuminant,
+            } => Spectrum::from_fn(|i| {
+                scale * sigmoid.eval(wl.lambda[i]) * illuminant.eval(wl.lambda[i])
+            }),
             _ => Spectrum::from_fn(|i| self.eval_one(wl.lambda[i])),
         }
     }

@@ -24,9 +24,15 @@ impl<const N: usize> Spectrum<N> {
         Self([1.0; N])
     }
 
-    #[inline]
-    pub fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
-        Self(std::array::from_fn(f))
+    /// Lane i = f(i). A plain loop: `std::array::from_fn` does not always inline its closure
+    /// wrapper, which showed up as a per-lane function call in profiles.
+    #[inline(always)]
+    pub fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
+        let mut a = [0.0; N];
+        for (i, v) in a.iter_mut().enumerate() {
+            *v = f(i);
+        }
+        Self(a)
     }
 
     #[inline]

@@ -119,8 +119,18 @@ impl WavelengthSampler {
             if uj >= 1.0 {
                 uj -= 1.0;
             }
-            lambda[j] = self.sample_one(uj);
-            pdf[j] = self.pdf(lambda[j]);
+            match self.kind {
+                WavelengthSampling::Uniform => {
+                    lambda[j] = self.sample_one(uj);
+                    pdf[j] = 1.0 / (self.hi - self.lo);
+                }
+                WavelengthSampling::Visible => {
+                    // With t = tanh(k (λ − 538)), cosh⁻² = 1 − t², so the pdf needs no cosh.
+                    let t = self.t_lo + uj * self.t_span;
+                    lambda[j] = (VIS_CENTER + t.atanh() * (1.0 / VIS_K)).clamp(self.lo, self.hi);
+                    pdf[j] = VIS_K * (1.0 - t * t) / self.t_span;
+                }
+            }
         }
         Wavelengths { lambda, pdf }
     }
@@ -157,6 +167,24 @@ mod tests {
                 let h = (hi - lo) / n as f32;
                 let total: f32 = (0..n).map(|i| s.pdf(lo + (i as f32 + 0.5) * h) * h).sum();
                 assert!((total - 1.0).abs() < 1e-3, "{kind:?} {lo}-{hi}: {total}");
+            }
+        }
+    }
+
+    #[test]
+    fn lane_pdfs_equal_the_pdf_function() {
+        for kind in [WavelengthSampling::Visible, WavelengthSampling::Uniform] {
+            let s = WavelengthSampler::new(kind, 360.0, 830.0);
+            for i in 0..100 {
+                let w = s.sample::<4>(i as f32 / 100.0);
+                for j in 0..4 {
+                    let p = s.pdf(w.lambda[j]);
+                    assert!(
+                        (w.pdf[j] - p).abs() <= 2e-4 * p,
+                        "{kind:?}: {} vs {p}",
+                        w.pdf[j]
+                    );
+                }
             }
         }
     }
