@@ -1,23 +1,19 @@
 //! Config → render-ready scene and settings, with every check a user's mistake can trip
 //! reported against the scene file and the field.
 
-use super::Scene;
+use super::{geometry, materials, Scene};
 use crate::bsdf::Material;
 use crate::camera::Camera;
-use crate::config::{
-    self, spectrum_ctx, EmitterConfig, MaterialConfig, Role, SceneConfig, ShapeKind, TransformOp,
-};
+use crate::config::{self, spectrum_ctx, EmitterConfig, Role, SceneConfig};
 use crate::emitter::{AreaEmitter, Emitter};
 use crate::error::{Error, InputError};
 use crate::film::FilmChannels;
 use crate::filter::{Filter, FilterConfig};
 use crate::integrator::{RenderSettings, SUPPORTED_LANES};
-use crate::math::Transform;
 use crate::sampler::{SamplerKind, SOBOL_MAX_SPP};
 use crate::sensor::Bands;
-use crate::shape::{mesh_io, Disk, Mesh, Shape, Sphere};
 use crate::spectrum::{Curve, WavelengthSampler};
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use std::path::Path;
 
 /// A scene ready to render, with its settings.
@@ -45,7 +41,7 @@ pub fn load_str(text: &str, file: &Path) -> Result<Job, Error> {
     Ok(build(cfg, file)?)
 }
 
-fn check(
+pub(super) fn check(
     cond: bool,
     file: &Path,
     field: &str,
@@ -58,71 +54,8 @@ fn check(
     }
 }
 
-fn finite3(v: [f32; 3]) -> bool {
+pub(super) fn finite3(v: [f32; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
-}
-
-/// Composes a list of transform steps (the first acts first).
-pub fn transform(ops: &[TransformOp], file: &Path, field: &str) -> Result<Transform, InputError> {
-    let mut m = Mat4::IDENTITY;
-    for (i, op) in ops.iter().enumerate() {
-        let f = format!("{field}[{i}]");
-        let step = match op {
-            TransformOp::Matrix(rows) => {
-                check(
-                    rows.iter().flatten().all(|v| v.is_finite()),
-                    file,
-                    &f,
-                    "the matrix has non-finite entries",
-                )?;
-                Mat4::from_cols_array_2d(rows).transpose()
-            }
-            TransformOp::Translate(t) => {
-                check(
-                    finite3(*t),
-                    file,
-                    &f,
-                    "the translation has non-finite components",
-                )?;
-                Mat4::from_translation(Vec3::from(*t))
-            }
-            TransformOp::Scale(s) => {
-                check(
-                    finite3(*s) && s.iter().all(|&v| v != 0.0),
-                    file,
-                    &f,
-                    format!("scale {s:?} must be finite and non-zero"),
-                )?;
-                Mat4::from_scale(Vec3::from(*s))
-            }
-            TransformOp::Rotate { axis, angle } => {
-                let a = Vec3::from(*axis);
-                check(
-                    finite3(*axis) && a.length() > 0.0 && angle.is_finite(),
-                    file,
-                    &f,
-                    "the rotation needs a non-zero finite axis and a finite angle",
-                )?;
-                Mat4::from_axis_angle(a.normalize(), angle.to_radians())
-            }
-            TransformOp::LookAt { origin, target, up } => {
-                let t = Transform::look_at((*origin).into(), (*target).into(), (*up).into()).ok_or_else(|| {
-                    InputError::new(file, "look-at needs distinct origin and target and an up vector not parallel to the view direction")
-                        .field(&f)
-                })?;
-                t.m
-            }
-        };
-        m = step * m;
-    }
-    Transform::from_matrix(m).ok_or_else(|| {
-        InputError::new(
-            file,
-            "the transform is singular (it flattens space) or not finite",
-        )
-        .field(field)
-        .hint("check for a zero scale or a degenerate matrix")
-    })
 }
 
 /// Builds a job from a parsed config.
@@ -202,7 +135,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
             format!("gaussian stddev {stddev} must lie in (0, 2] pixels"),
         )?,
     }
-    let cam_t = transform(&c.to_world, file, "camera.to_world")?;
+    let cam_t = geometry::transform(&c.to_world, file, "camera.to_world")?;
     let camera = Camera::new(
         cam_t,
         c.fov,
@@ -275,16 +208,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let mut names: Vec<&String> = cfg.materials.keys().collect();
     let mut materials = Vec::new();
     for (name, m) in &cfg.materials {
-        let field = format!("materials.\"{name}\"");
-        materials.push(match m {
-            MaterialConfig::Diffuse { reflectance } => Material::Diffuse {
-                reflectance: reflectance.resolve(
-                    Role::Reflectance,
-                    &spectrum_ctx(file, &format!("{field}.reflectance"), range),
-                    &mut warnings,
-                )?,
-            },
-        });
+        materials.push(materials::material(name, m, file, range, &mut warnings)?);
     }
     let mut default_material = None;
 
@@ -296,63 +220,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let base = file.parent().unwrap_or(Path::new("."));
     for (i, sc) in cfg.shapes.iter().enumerate() {
         let field = format!("shapes[{i}]");
-        let t = transform(&sc.to_world, file, &format!("{field}.to_world"))?;
-        let shape = match &sc.shape {
-            ShapeKind::Rectangle => Shape::Mesh(Mesh::rectangle().transformed(&t, sc.flip_normals)),
-            ShapeKind::Cube => Shape::Mesh(Mesh::cube().transformed(&t, sc.flip_normals)),
-            ShapeKind::Disk => Shape::Disk(Disk {
-                to_world: t,
-                flip: sc.flip_normals,
-            }),
-            ShapeKind::Sphere { center, radius } => {
-                check(
-                    finite3(*center) && radius.is_finite() && *radius > 0.0,
-                    file,
-                    &format!("{field}.shape"),
-                    format!("a sphere needs a finite center and a radius > 0 (got {radius})"),
-                )?;
-                let cols = [t.vector(Vec3::X), t.vector(Vec3::Y), t.vector(Vec3::Z)];
-                let s = cols[0].length();
-                let uniform = cols.iter().all(|c| (c.length() - s).abs() <= 1e-4 * s)
-                    && cols[0].dot(cols[1]).abs() <= 1e-4 * s * s
-                    && cols[1].dot(cols[2]).abs() <= 1e-4 * s * s
-                    && cols[0].dot(cols[2]).abs() <= 1e-4 * s * s;
-                check(uniform, file, &format!("{field}.to_world"), "a sphere's transform may only rotate, translate and scale uniformly; use a Mesh for ellipsoids")?;
-                Shape::Sphere(Sphere {
-                    center: t.point(Vec3::from(*center)),
-                    radius: radius * s,
-                    flip: sc.flip_normals,
-                })
-            }
-            ShapeKind::Mesh { path } => {
-                let full = base.join(path);
-                let mesh = mesh_io::load(&full).map_err(|m| {
-                    InputError::new(file, m)
-                        .field(format!("{field}.shape.path"))
-                        .hint("mesh paths are relative to the scene file")
-                })?;
-                Shape::Mesh(mesh.transformed(&t, sc.flip_normals))
-            }
-        };
-        if let Shape::Mesh(m) = &shape {
-            let degenerate = (0..m.indices.len())
-                .filter(|&k| shape.prim_is_degenerate(k))
-                .count();
-            if degenerate == m.indices.len() {
-                return Err(InputError::new(
-                    file,
-                    "every triangle of this shape has zero area (after its transform)",
-                )
-                .field(&field));
-            }
-            if degenerate > 0 {
-                warnings.push(format!(
-                    "{}: {field}: {degenerate} of {} triangles have zero area and are skipped",
-                    file.display(),
-                    m.indices.len()
-                ));
-            }
-        }
+        let shape = geometry::shape(sc, file, &field, base, &mut warnings)?;
         let mat = match &sc.material {
             Some(name) => match names.iter().position(|n| *n == name) {
                 Some(k) => k as u32,

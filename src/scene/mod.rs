@@ -3,6 +3,8 @@
 //! reads it.
 
 mod build;
+mod geometry;
+mod materials;
 
 use crate::accel::{Accel, AccelKind, Prim};
 use crate::bsdf::Material;
@@ -11,7 +13,8 @@ use crate::emitter::Emitter;
 use crate::interaction::SurfaceInteraction;
 use crate::ray::Ray;
 use crate::shape::Shape;
-pub use build::{load, load_str, Job};
+pub use build::{build, load, load_str, Job};
+pub use geometry::transform;
 
 pub struct Scene {
     pub camera: Camera,
