@@ -202,3 +202,38 @@ fn same_seed_same_bits_whatever_the_threads() {
         );
     }
 }
+
+/// The wavelength range is chosen at run time: over 300–1100 nm (beyond the CIE curves, into
+/// the near infrared), a camera seeing only a blackbody sky records, in each band, Planck's law
+/// averaged over the band.
+#[test]
+fn blackbody_sky_over_300_to_1100_nm() {
+    let text = r#"(
+        film: (width: 16, height: 16),
+        sampler: (spp: 256, seed: 2),
+        spectral: (sampling: Uniform, range: (300, 1100), wavelengths: 8),
+        outputs: (rgb: false, xyz: false, bands: 16),
+        emitters: [Constant(radiance: Blackbody(4000))],
+    )"#;
+    let film = render(text, 2);
+    assert_eq!(film.band_centers.len(), 16);
+    for (k, center) in film.band_centers.iter().enumerate() {
+        let (lo, hi) = (*center as f64 - 25.0, *center as f64 + 25.0);
+        let m = 5000;
+        let expect = (0..m)
+            .map(|i| {
+                prism::spectrum::curve::planck(
+                    (lo + (i as f64 + 0.5) * (hi - lo) / m as f64) as f32,
+                    4000.0,
+                ) as f64
+            })
+            .sum::<f64>()
+            / m as f64;
+        let name = &film.channels[k].name;
+        check(
+            &format!("blackbody band {name}"),
+            &film.channels[k].data,
+            expect,
+        );
+    }
+}
