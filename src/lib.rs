@@ -22,3 +22,4 @@ pub mod scene;
 pub mod sensor;
 pub mod shape;
 pub mod spectrum;
+pub mod texture;

@@ -41,6 +41,7 @@ impl<const N: usize> Diffuse<N> {
         Some(BsdfSample {
             wo,
             pdf,
+            pdf_lanes: Spectrum::splat(pdf),
             weight: self.reflectance,
             delta: false,
             eta: 1.0,

@@ -1,85 +1,312 @@
 //! Materials and BSDFs.
 //!
-//! A `Material` is what the scene holds (spectra, later textures). At a hit it becomes a
-//! `Bsdf<N>`: the BSDF with its parameters evaluated at the path's N wavelengths, on the stack.
+//! A `Material` is what the scene holds: a tree of BSDFs (Mitsuba's names: `diffuse`,
+//! `conductor`, `dielectric`, …, combined by `twosided`, `blend` and `mask`) whose parameters
+//! are spectra or textures. At a hit it becomes a `Bsdf<N>`: a mixture of at most `MAX_LOBES`
+//! leaf lobes with their parameters evaluated at the path's N wavelengths and the hit's uv,
+//! built on the stack (no allocation, static dispatch).
+//!
 //! Directions are in the local shading frame (z = normal) and point away from the surface:
 //! `wi` towards the previous vertex (the camera side), `wo` towards the next (the light side).
-//! BSDFs are one-sided, as in Mitsuba 3: light arriving from below the surface is black.
+//! Leaf BSDFs are one-sided where Mitsuba's are (light from below a diffuse surface is black);
+//! `twosided` mirrors directions (z → −z) for the back side.
+//!
+//! Wavelength-dependent sampling (dispersion): a sample reports the density with which each
+//! lane's BSDF would have produced the same direction (`pdf_lanes`); the integrator weights the
+//! lanes by spectral MIS with them (Wilkie et al. 2014).
 
 mod diffuse;
+pub mod fresnel;
+pub mod microfacet;
 
 use crate::interaction::SurfaceInteraction;
-use crate::spectrum::{Curve, Spectrum, Wavelengths};
+use crate::spectrum::{Spectrum, Wavelengths};
+use crate::texture::{FloatTexture, SpectralTexture};
 pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
+
+/// Most leaf lobes one material may combine (blends and masks of blends…).
+pub const MAX_LOBES: usize = 4;
 
 /// A material of the scene.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
-    Diffuse { reflectance: Curve },
+    /// Lambertian reflection (Mitsuba's `diffuse`).
+    Diffuse { reflectance: SpectralTexture },
+    /// `front` on the front side, `back` (mirrored) on the back (Mitsuba's `twosided`).
+    Twosided {
+        front: Box<Material>,
+        back: Box<Material>,
+    },
+    /// (1 − weight)·a + weight·b (Mitsuba's `blendbsdf`).
+    Blend {
+        a: Box<Material>,
+        b: Box<Material>,
+        weight: FloatTexture,
+    },
+    /// Opacity·inner, the rest passes straight through (Mitsuba's `mask`).
+    Mask {
+        inner: Box<Material>,
+        opacity: FloatTexture,
+    },
 }
 
-/// A BSDF at one hit, at the path's wavelengths.
+/// One leaf BSDF at a hit, at the path's wavelengths.
 #[derive(Clone, Copy, Debug)]
-pub enum Bsdf<const N: usize> {
+pub enum Lobe<const N: usize> {
     Diffuse(Diffuse<N>),
+    /// Passes light straight through, unchanged (the transparent part of a `mask`).
+    Null,
 }
 
 /// A sampled outgoing direction.
 #[derive(Clone, Copy, Debug)]
 pub struct BsdfSample<const N: usize> {
     pub wo: Vec3,
-    /// Solid-angle density of `wo` (for a delta lobe: the discrete probability of the lobe).
+    /// Density of `wo` under the hero wavelength's BSDF (solid angle; for a Dirac lobe, the
+    /// discrete probability of choosing it).
     pub pdf: f32,
-    /// f · |cos θ_o| / pdf.
+    /// The same density for each lane's BSDF (equal to `pdf` in every lane unless sampling
+    /// depends on wavelength; 0 where that lane could not have produced `wo`).
+    pub pdf_lanes: Spectrum<N>,
+    /// f · |cos θ_o| / pdf, per lane.
     pub weight: Spectrum<N>,
-    /// True for a specular (Dirac) lobe: no emitter sampling, no MIS.
+    /// True for a Dirac lobe: no emitter sampling, no MIS.
     pub delta: bool,
-    /// Relative index of refraction crossed (1 for reflection).
+    /// Relative index of refraction crossed, for the hero (1 for reflection).
     pub eta: f32,
 }
 
+/// A BSDF at one hit: a mixture of leaf lobes whose weights sum to 1.
+#[derive(Clone, Copy, Debug)]
+pub struct Bsdf<const N: usize> {
+    lobes: [(Lobe<N>, f32, bool); MAX_LOBES],
+    count: usize,
+}
+
 impl Material {
-    #[inline]
-    pub fn bsdf<const N: usize>(&self, _si: &SurfaceInteraction, wl: &Wavelengths<N>) -> Bsdf<N> {
+    /// The most leaf lobes this material can produce at a hit (checked against `MAX_LOBES`).
+    pub fn max_lobes(&self) -> usize {
         match self {
-            Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse {
-                reflectance: reflectance.eval(wl),
+            Material::Twosided { front, back } => front.max_lobes().max(back.max_lobes()),
+            Material::Blend { a, b, .. } => a.max_lobes() + b.max_lobes(),
+            Material::Mask { inner, .. } => inner.max_lobes() + 1,
+            _ => 1,
+        }
+    }
+
+    /// The BSDF at `si` for a path arriving from local direction `wi`.
+    #[inline]
+    pub fn bsdf<const N: usize>(
+        &self,
+        si: &SurfaceInteraction,
+        wi: Vec3,
+        wl: &Wavelengths<N>,
+    ) -> Bsdf<N> {
+        let mut b = Bsdf {
+            lobes: [(Lobe::Null, 0.0, false); MAX_LOBES],
+            count: 0,
+        };
+        self.add_lobes(si, wi, wl, 1.0, false, &mut b);
+        b
+    }
+
+    fn add_lobes<const N: usize>(
+        &self,
+        si: &SurfaceInteraction,
+        wi: Vec3,
+        wl: &Wavelengths<N>,
+        weight: f32,
+        flip: bool,
+        out: &mut Bsdf<N>,
+    ) {
+        let lobe = match self {
+            Material::Diffuse { reflectance } => Lobe::Diffuse(Diffuse {
+                reflectance: reflectance.eval(si.uv, wl),
+            }),
+            Material::Twosided { front, back } => {
+                // The side is decided by where the path arrives from, as Mitsuba does.
+                let back_side = (wi.z < 0.0) != flip;
+                let m = if back_side { back } else { front };
+                m.add_lobes(si, wi, wl, weight, flip ^ back_side, out);
+                return;
+            }
+            Material::Blend { a, b, weight: w } => {
+                let t = w.eval(si.uv).clamp(0.0, 1.0);
+                a.add_lobes(si, wi, wl, weight * (1.0 - t), flip, out);
+                b.add_lobes(si, wi, wl, weight * t, flip, out);
+                return;
+            }
+            Material::Mask { inner, opacity } => {
+                let a = opacity.eval(si.uv).clamp(0.0, 1.0);
+                inner.add_lobes(si, wi, wl, weight * a, flip, out);
+                Lobe::Null.push(weight * (1.0 - a), false, out);
+                return;
+            }
+        };
+        lobe.push(weight, flip, out);
+    }
+}
+
+impl<const N: usize> Lobe<N> {
+    fn push(self, weight: f32, flip: bool, out: &mut Bsdf<N>) {
+        if weight > 0.0 && out.count < MAX_LOBES {
+            out.lobes[out.count] = (self, weight, flip);
+            out.count += 1;
+        }
+    }
+
+    /// f(wi, wo) · |cos θ_o| per lane (0 for Dirac lobes).
+    #[inline]
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+        match self {
+            Lobe::Diffuse(b) => b.eval(wi, wo),
+            Lobe::Null => Spectrum::zero(),
+        }
+    }
+
+    /// Hero density of sampling `wo` (0 for Dirac lobes).
+    #[inline]
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        match self {
+            Lobe::Diffuse(b) => b.pdf(wi, wo),
+            Lobe::Null => 0.0,
+        }
+    }
+
+    /// Per-lane densities of sampling `wo`.
+    #[inline]
+    fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+        Spectrum::splat(self.pdf(wi, wo))
+    }
+
+    #[inline]
+    fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+        match self {
+            Lobe::Diffuse(b) => b.sample(wi, uc, u),
+            Lobe::Null => Some(BsdfSample {
+                wo: -wi,
+                pdf: 1.0,
+                pdf_lanes: Spectrum::one(),
+                weight: Spectrum::one(),
+                delta: true,
+                eta: 1.0,
             }),
         }
+    }
+
+    /// True if the lobe has a non-Dirac part (emitter sampling can reach it).
+    #[inline]
+    fn has_smooth(&self) -> bool {
+        !matches!(self, Lobe::Null)
+    }
+
+    /// True if the lobe's sampling depends on wavelength.
+    #[inline]
+    fn dispersive(&self) -> bool {
+        false
+    }
+}
+
+/// Mirrors a local direction through the tangent plane (the back side of a `twosided`).
+#[inline]
+fn mirror(v: Vec3, flip: bool) -> Vec3 {
+    if flip {
+        Vec3::new(v.x, v.y, -v.z)
+    } else {
+        v
     }
 }
 
 impl<const N: usize> Bsdf<N> {
-    /// f(wi, wo) · |cos θ_o|.
+    /// f(wi, wo) · |cos θ_o| of the smooth lobes (Dirac lobes contribute nothing here).
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
-        match self {
-            Bsdf::Diffuse(b) => b.eval(wi, wo),
+        let mut f = Spectrum::zero();
+        for (lobe, w, flip) in &self.lobes[..self.count] {
+            f += lobe.eval(mirror(wi, *flip), mirror(wo, *flip)) * *w;
         }
+        f
     }
 
-    /// Solid-angle density with which `sample` picks `wo` (hero wavelength).
+    /// Hero density with which `sample` produces `wo` from its smooth lobes.
     #[inline]
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        match self {
-            Bsdf::Diffuse(b) => b.pdf(wi, wo),
-        }
+        self.lobes[..self.count]
+            .iter()
+            .map(|(l, w, flip)| w * l.pdf(mirror(wi, *flip), mirror(wo, *flip)))
+            .sum()
     }
 
-    /// `uc` picks a lobe, `u` the direction within it.
+    /// Per-lane densities with which `sample` produces `wo` from its smooth lobes.
+    #[inline]
+    pub fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+        let mut p = Spectrum::zero();
+        for (lobe, w, flip) in &self.lobes[..self.count] {
+            p += lobe.pdf_lanes(mirror(wi, *flip), mirror(wo, *flip)) * *w;
+        }
+        p
+    }
+
+    /// `uc` picks a lobe (by weight), `u` the direction within it.
     #[inline]
     pub fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
-        match self {
-            Bsdf::Diffuse(b) => b.sample(wi, uc, u),
+        if self.count == 1 {
+            let (lobe, w, flip) = &self.lobes[0];
+            let mut s = lobe.sample(mirror(wi, *flip), uc, u)?;
+            s.wo = mirror(s.wo, *flip);
+            // A lone lobe of weight < 1 (a mask's inner part when fully opaque is weight 1).
+            s.weight *= *w;
+            return Some(s);
         }
+        // Choose lobe i with probability w_i (the weights sum to 1), reusing uc.
+        let mut acc = 0.0;
+        let mut chosen = self.count - 1;
+        let mut uc_lobe = uc;
+        for (i, (_, w, _)) in self.lobes[..self.count].iter().enumerate() {
+            if uc < acc + w || i == self.count - 1 {
+                chosen = i;
+                uc_lobe = ((uc - acc) / w).clamp(0.0, 1.0 - f32::EPSILON);
+                break;
+            }
+            acc += w;
+        }
+        let (lobe, w, flip) = &self.lobes[chosen];
+        let mut s = lobe.sample(mirror(wi, *flip), uc_lobe, u)?;
+        s.wo = mirror(s.wo, *flip);
+        if s.delta {
+            // A Dirac lobe: the mixture's probability of this exact direction is w·p.
+            s.pdf *= w;
+            s.pdf_lanes *= *w;
+            return Some(s);
+        }
+        // A smooth direction: every smooth lobe could have produced it.
+        let pdf = self.pdf(wi, s.wo);
+        if pdf <= 0.0 {
+            return None;
+        }
+        let f = self.eval(wi, s.wo);
+        Some(BsdfSample {
+            pdf,
+            pdf_lanes: self.pdf_lanes(wi, s.wo),
+            weight: f / pdf,
+            ..s
+        })
     }
 
-    /// True if some lobe is not a delta: emitter sampling can then contribute.
+    /// True if some lobe is not a Dirac lobe: emitter sampling can then contribute.
     #[inline]
     pub fn has_smooth(&self) -> bool {
-        match self {
-            Bsdf::Diffuse(_) => true,
-        }
+        self.lobes[..self.count]
+            .iter()
+            .any(|(l, _, _)| l.has_smooth())
+    }
+
+    /// True if sampling depends on wavelength (the integrator then tracks per-lane densities).
+    #[inline]
+    pub fn dispersive(&self) -> bool {
+        self.lobes[..self.count]
+            .iter()
+            .any(|(l, _, _)| l.dispersive())
     }
 }

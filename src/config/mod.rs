@@ -12,14 +12,15 @@
 //! ```
 
 mod parse;
-mod spectrum;
+pub mod spectrum;
 
 use crate::accel::AccelKind;
 use crate::camera::FovAxis;
 use crate::filter::FilterConfig;
-use crate::integrator::PathSettings;
+use crate::integrator::{Dispersion, PathSettings};
 use crate::sampler::SamplerKind;
 use crate::spectrum::WavelengthSampling;
+use crate::texture::{TexFilter, Wrap};
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
 pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig};
@@ -137,6 +138,10 @@ pub struct SpectralConfig {
     /// `Visible` (default: importance-samples the eye's sensitivity, as Mitsuba 3) or `Uniform`
     /// (equal noise in every band: better for spectral outputs and ranges beyond the visible).
     pub sampling: WavelengthSampling,
+    /// Where sampling depends on wavelength (dispersive glass): `SpectralMis` (default: keep
+    /// every lane, weighted by spectral MIS) or `TerminateSecondary` (keep only the hero, as
+    /// pbrt-v4 does; for comparisons).
+    pub dispersion: Dispersion,
 }
 
 impl Default for SpectralConfig {
@@ -145,6 +150,7 @@ impl Default for SpectralConfig {
             wavelengths: 4,
             range: (360.0, 830.0),
             sampling: WavelengthSampling::Visible,
+            dispersion: Dispersion::SpectralMis,
         }
     }
 }
@@ -175,7 +181,14 @@ impl Default for OutputConfig {
     }
 }
 
-/// A material. `Diffuse(reflectance: Rgb(0.8, 0.2, 0.2))`
+/// A material (Mitsuba 3's BSDF names and parameters).
+///
+/// ```ron
+/// Diffuse(reflectance: Rgb(0.8, 0.2, 0.2))
+/// Twosided(bsdf: Diffuse(reflectance: Bitmap(path: "leaf.png")))
+/// Blend(weight: 0.3, bsdf0: Diffuse(), bsdf1: Diffuse(reflectance: Constant(0.9)))
+/// Mask(opacity: Bitmap(path: "alpha.png"), bsdf: Diffuse())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum MaterialConfig {
@@ -184,10 +197,89 @@ pub enum MaterialConfig {
         #[serde(default = "half_grey")]
         reflectance: SpectrumConfig,
     },
+    /// `bsdf` on both sides (or `bsdf` in front and `back` behind), Mitsuba's `twosided`.
+    Twosided {
+        bsdf: Box<MaterialConfig>,
+        #[serde(default)]
+        back: Option<Box<MaterialConfig>>,
+    },
+    /// (1 − weight)·bsdf0 + weight·bsdf1 (Mitsuba's `blendbsdf`); `weight` default 0.5.
+    Blend {
+        #[serde(default = "half")]
+        weight: FloatConfig,
+        bsdf0: Box<MaterialConfig>,
+        bsdf1: Box<MaterialConfig>,
+    },
+    /// `opacity`·bsdf; the rest of the light passes straight through (Mitsuba's `mask`);
+    /// `opacity` default 0.5.
+    Mask {
+        #[serde(default = "half")]
+        opacity: FloatConfig,
+        bsdf: Box<MaterialConfig>,
+    },
 }
 
 fn half_grey() -> SpectrumConfig {
     SpectrumConfig::Constant(0.5)
+}
+
+fn half() -> FloatConfig {
+    FloatConfig::Value(0.5)
+}
+
+/// A scalar parameter: a number, or a texture (`Checkerboard(...)`, `Bitmap(...)`, whose
+/// luminance is used).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a number, or a texture: Checkerboard(value0: .., value1: ..) or Bitmap(path: \"...\")"
+)]
+pub enum FloatConfig {
+    Value(f32),
+    Texture(FloatTextureConfig),
+}
+
+/// Textured scalar parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum FloatTextureConfig {
+    /// `value0` where frac(u) and frac(v) fall in the same half, else `value1` (defaults 0.4, 0.2).
+    Checkerboard {
+        #[serde(default = "point_four")]
+        value0: f32,
+        #[serde(default = "point_two")]
+        value1: f32,
+        #[serde(default = "unit_scale")]
+        uv_scale: (f32, f32),
+        #[serde(default)]
+        uv_offset: (f32, f32),
+    },
+    /// The luminance of an image (PNG, JPEG, EXR or HDR), relative to the scene file.
+    Bitmap {
+        path: String,
+        #[serde(default)]
+        filter: TexFilter,
+        #[serde(default)]
+        wrap: Wrap,
+        #[serde(default)]
+        raw: bool,
+        #[serde(default = "unit_scale")]
+        uv_scale: (f32, f32),
+        #[serde(default)]
+        uv_offset: (f32, f32),
+    },
+}
+
+fn point_four() -> f32 {
+    0.4
+}
+
+fn point_two() -> f32 {
+    0.2
+}
+
+pub(crate) fn unit_scale() -> (f32, f32) {
+    (1.0, 1.0)
 }
 
 /// A shape: `(shape: Rectangle, material: "white", to_world: [Scale((2, 2, 1))])`.

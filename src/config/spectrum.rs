@@ -3,6 +3,8 @@
 
 use crate::error::InputError;
 use crate::spectrum::{data, table, Curve};
+use crate::texture::{self, SpectralTexture, TexFilter, UvMap, Wrap};
+use glam::Vec2;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -17,7 +19,12 @@ use std::path::Path;
 /// Named("D65")                            // a CIE illuminant, unit luminance
 /// Blackbody(5500)                         // Planck's law in W m⁻² sr⁻¹ nm⁻¹, temperature in K
 /// Scaled(10, Named("A"))                  // any spectrum times a factor
+/// Checkerboard(color0: Constant(0.8), color1: Rgb(0.1, 0.1, 0.5), uv_scale: (8, 8))  // a texture
+/// Bitmap(path: "wood.png", filter: Bilinear, wrap: Repeat, raw: false, uv_scale: (1, 1))  // a texture
 /// ```
+///
+/// Textures are allowed where a material parameter varies over a surface (reflectances);
+/// emitters and indices of refraction take plain spectra.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum SpectrumConfig {
@@ -32,6 +39,39 @@ pub enum SpectrumConfig {
     Named(String),
     Blackbody(f32),
     Scaled(f32, Box<SpectrumConfig>),
+    /// Mitsuba's `checkerboard` (defaults 0.4 and 0.2).
+    Checkerboard {
+        #[serde(default = "point_four")]
+        color0: Box<SpectrumConfig>,
+        #[serde(default = "point_two")]
+        color1: Box<SpectrumConfig>,
+        #[serde(default = "super::unit_scale")]
+        uv_scale: (f32, f32),
+        #[serde(default)]
+        uv_offset: (f32, f32),
+    },
+    /// Mitsuba's `bitmap`: an RGB image uplifted texel by texel at load.
+    Bitmap {
+        path: String,
+        #[serde(default)]
+        filter: TexFilter,
+        #[serde(default)]
+        wrap: Wrap,
+        #[serde(default)]
+        raw: bool,
+        #[serde(default = "super::unit_scale")]
+        uv_scale: (f32, f32),
+        #[serde(default)]
+        uv_offset: (f32, f32),
+    },
+}
+
+fn point_four() -> Box<SpectrumConfig> {
+    Box::new(SpectrumConfig::Constant(0.4))
+}
+
+fn point_two() -> Box<SpectrumConfig> {
+    Box::new(SpectrumConfig::Constant(0.2))
 }
 
 /// What a spectrum stands for, which decides how RGB is uplifted and which values are valid.
@@ -105,6 +145,50 @@ impl SpectrumConfig {
             }
         }
         Ok(curve)
+    }
+
+    /// Resolves a spectrum that may also be a texture (material parameters).
+    pub fn resolve_texture(
+        &self,
+        role: Role,
+        ctx: &Context,
+        warnings: &mut Vec<String>,
+    ) -> Result<SpectralTexture, InputError> {
+        Ok(match self {
+            SpectrumConfig::Checkerboard {
+                color0,
+                color1,
+                uv_scale,
+                uv_offset,
+            } => SpectralTexture::Checkerboard {
+                color0: color0.resolve(role, ctx, warnings)?,
+                color1: color1.resolve(role, ctx, warnings)?,
+                map: uv_map(ctx, *uv_scale, *uv_offset)?,
+            },
+            SpectrumConfig::Bitmap {
+                path,
+                filter,
+                wrap,
+                raw,
+                uv_scale,
+                uv_offset,
+            } => {
+                if role != Role::Reflectance {
+                    return Err(ctx.err("a bitmap here would be uplifted as a reflectance; this parameter is not one"));
+                }
+                let full = ctx.file.parent().unwrap_or(Path::new(".")).join(path);
+                let img = texture::load_rgb(&full, *raw).map_err(|m| {
+                    ctx.err(m)
+                        .hint("texture paths are relative to the scene file")
+                })?;
+                SpectralTexture::Bitmap(Box::new(img.to_reflectance(
+                    *wrap,
+                    *filter,
+                    uv_map(ctx, *uv_scale, *uv_offset)?,
+                )))
+            }
+            _ => SpectralTexture::Uniform(self.resolve(role, ctx, warnings)?),
+        })
     }
 
     fn resolve_inner(&self, role: Role, ctx: &Context) -> Result<Curve, InputError> {
@@ -218,6 +302,11 @@ impl SpectrumConfig {
                     scale: 1.0,
                 }
             }
+            SpectrumConfig::Checkerboard { .. } | SpectrumConfig::Bitmap { .. } => {
+                return Err(ctx
+                    .err("a texture is not allowed here")
+                    .hint("textures vary over a surface; emitters and indices of refraction take a plain spectrum"))
+            }
             SpectrumConfig::Scaled(k, inner) => {
                 check_finite(ctx, "the scale factor", *k)?;
                 if *k < 0.0 {
@@ -227,4 +316,22 @@ impl SpectrumConfig {
             }
         })
     }
+}
+
+/// Checks a texture placement.
+pub fn uv_map(ctx: &Context, scale: (f32, f32), offset: (f32, f32)) -> Result<UvMap, InputError> {
+    let ok = [scale.0, scale.1, offset.0, offset.1]
+        .iter()
+        .all(|v| v.is_finite())
+        && scale.0 != 0.0
+        && scale.1 != 0.0;
+    if !ok {
+        return Err(ctx.err(format!(
+            "uv_scale {scale:?} must be finite and non-zero, uv_offset {offset:?} finite"
+        )));
+    }
+    Ok(UvMap {
+        scale: Vec2::new(scale.0, scale.1),
+        offset: Vec2::new(offset.0, offset.1),
+    })
 }

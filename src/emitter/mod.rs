@@ -94,7 +94,7 @@ impl Emitter {
 
     /// Solid-angle density of `sample_li` producing direction `d` towards infinity.
     #[inline]
-    pub fn pdf_li_env(&self) -> f32 {
+    pub fn pdf_li_env(&self, _d: Vec3) -> f32 {
         match self {
             Emitter::Constant { .. } => UNIFORM_SPHERE_PDF,
             _ => 0.0,

@@ -10,7 +10,7 @@ use crate::scene::Scene;
 use crate::sensor::Sensor;
 use crate::spectrum::{Spectrum, WavelengthSampler};
 use glam::Vec2;
-pub use path::PathSettings;
+pub use path::{Dispersion, PathSettings};
 use rayon::prelude::*;
 
 /// Wavelengths per path the renderer is compiled for.
@@ -29,6 +29,7 @@ pub struct RenderSettings {
     pub wavelengths: WavelengthSampler,
     pub filter: Filter,
     pub path: PathSettings,
+    pub dispersion: Dispersion,
 }
 
 /// What a render measured about itself.
@@ -135,7 +136,14 @@ fn render_tile<const N: usize>(
                 let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                 let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
                 let ray = scene.camera.ray(film);
-                let l = path::radiance::<N>(scene, ray, &wl, &mut sampler, &settings.path);
+                let l = path::radiance::<N>(
+                    scene,
+                    ray,
+                    &wl,
+                    &mut sampler,
+                    &settings.path,
+                    settings.dispersion,
+                );
                 if !l.is_finite() {
                     invalid += 1;
                     continue;

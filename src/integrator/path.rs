@@ -35,13 +35,31 @@ impl Default for PathSettings {
     }
 }
 
-/// Radiance arriving along `ray` at the lanes of `wl`.
+/// How lanes are treated where sampling depends on wavelength (dispersion).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Dispersion {
+    /// Keep every lane, weighted by spectral MIS over the lanes' sampling densities (Wilkie et
+    /// al. 2014): lanes that could have produced the hero's direction keep contributing.
+    #[default]
+    SpectralMis,
+    /// Drop the secondary lanes at the first dispersive event (pbrt-v4's approach); kept for
+    /// comparison.
+    TerminateSecondary,
+}
+
+/// Radiance arriving along `ray` at the lanes of `wl`, each lane already weighted by the
+/// hero-wavelength estimator (the caller divides by N p(λ_j)).
+///
+/// Spectral MIS bookkeeping: `r[k]` is the ratio of lane k's path density to the hero's. A
+/// lane's contribution is scaled by N / Σ r, and emitter-vs-BSDF MIS uses the lanes' average
+/// BSDF density weighted by r. Without dispersion r stays 1 and all of this is the identity.
 pub fn radiance<const N: usize>(
     scene: &Scene,
     mut ray: Ray,
     wl: &Wavelengths<N>,
     sampler: &mut PixelSampler,
     settings: &PathSettings,
+    dispersion: Dispersion,
 ) -> Spectrum<N> {
     let mut l = Spectrum::<N>::zero();
     if settings.max_depth == 0 {
@@ -59,6 +77,8 @@ pub fn radiance<const N: usize>(
         0.0
     };
     let mut beta = Spectrum::<N>::one();
+    let mut r = Spectrum::<N>::one();
+    let mut lane_w = 1.0f32;
     let mut eta = 1.0f32;
     // The previous vertex's BSDF sampling density, for MIS when the ray lands on an emitter.
     let mut prev_p = ray.o;
@@ -75,9 +95,9 @@ pub fn radiance<const N: usize>(
                     let w = if prev_delta {
                         1.0
                     } else {
-                        power_heuristic(prev_pdf, select_pdf * em.pdf_li_env())
+                        power_heuristic(prev_pdf, select_pdf * em.pdf_li_env(ray.d))
                     };
-                    l += beta * le * w;
+                    l += beta * le * (w * lane_w);
                 }
             }
             break;
@@ -94,16 +114,17 @@ pub fn radiance<const N: usize>(
                         select_pdf * em.pdf_li_hit(prev_p, &si, &scene.shapes),
                     )
                 };
-                l += beta * le * w;
+                l += beta * le * (w * lane_w);
             }
         }
         if depth >= max_depth {
             break;
         }
         sampler.set_dimension(CAMERA_DIMS + (depth - 1).min(1 << 20) * BOUNCE_DIMS);
-        let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
-        let bsdf = material.bsdf(&si, wl);
         let wi = si.frame.to_local(-ray.d);
+        let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
+        let bsdf = material.bsdf(&si, wi, wl);
+        let dispersive = bsdf.dispersive();
 
         // Emitter sampling.
         let u_select = sampler.next_1d();
@@ -118,9 +139,14 @@ pub fn radiance<const N: usize>(
                     let w = if es.delta {
                         1.0
                     } else {
-                        power_heuristic(light_pdf, bsdf.pdf(wi, wo))
+                        let bsdf_pdf = if dispersive {
+                            (r * bsdf.pdf_lanes(wi, wo)).sum() / r.sum()
+                        } else {
+                            bsdf.pdf(wi, wo)
+                        };
+                        power_heuristic(light_pdf, bsdf_pdf)
                     };
-                    l += beta * f * es.radiance * (w / light_pdf);
+                    l += beta * f * es.radiance * (w / light_pdf * lane_w);
                 }
             }
         }
@@ -132,18 +158,33 @@ pub fn radiance<const N: usize>(
             break;
         };
         beta *= bs.weight;
+        prev_pdf = bs.pdf;
+        if dispersive && N > 1 {
+            match dispersion {
+                Dispersion::SpectralMis => {
+                    prev_pdf = (r * bs.pdf_lanes).sum() / r.sum();
+                    r = r * bs.pdf_lanes / bs.pdf;
+                }
+                Dispersion::TerminateSecondary => {
+                    for k in 1..N {
+                        beta[k] = 0.0;
+                        r[k] = 0.0;
+                    }
+                }
+            }
+            lane_w = N as f32 / r.sum();
+        }
         eta *= bs.eta;
         if beta.is_zero() {
             break;
         }
         let wo_world: Vec3 = si.frame.to_world(bs.wo);
         prev_p = si.p;
-        prev_pdf = bs.pdf;
         prev_delta = bs.delta;
         ray = si.spawn(wo_world);
 
         if depth >= settings.rr_depth {
-            let q = (beta.max_value() * eta * eta).min(0.95);
+            let q = (beta.max_value() * lane_w * eta * eta).min(0.95);
             if sampler.next_1d() >= q {
                 break;
             }

@@ -13,6 +13,7 @@ use crate::integrator::{RenderSettings, SUPPORTED_LANES};
 use crate::sampler::{SamplerKind, SOBOL_MAX_SPP};
 use crate::sensor::Bands;
 use crate::spectrum::{Curve, WavelengthSampler};
+use crate::texture::SpectralTexture;
 use glam::Vec3;
 use std::path::Path;
 
@@ -243,7 +244,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
             },
             None => *default_material.get_or_insert_with(|| {
                 materials.push(Material::Diffuse {
-                    reflectance: Curve::Constant(0.5),
+                    reflectance: SpectralTexture::Uniform(Curve::Constant(0.5)),
                 });
                 (materials.len() - 1) as u32
             }),
@@ -318,6 +319,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         wavelengths: WavelengthSampler::new(sp.sampling, lo, hi),
         filter: Filter::new(&f.filter),
         path: cfg.integrator,
+        dispersion: cfg.spectral.dispersion,
     };
     let scene = Scene::new(
         camera,

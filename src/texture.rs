@@ -1,0 +1,327 @@
+//! Textures: material parameters that vary over a surface. A spectral texture yields a
+//! spectrum at the path's wavelengths for a uv; RGB bitmaps are uplifted to Jakob–Hanika sigmoid
+//! coefficients once, at load, so a lookup costs a few flops per texel and lane.
+//!
+//! Texture space as Mitsuba 3: (u, v) = (0, 0) is the image's first (top) row and first column;
+//! `uv_scale` and `uv_offset` map surface uv to texture space (uv · scale + offset).
+
+use crate::spectrum::rgb2spec::{self, Sigmoid};
+use crate::spectrum::{Curve, Spectrum, Wavelengths};
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+
+/// How texture coordinates outside [0, 1) are treated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Wrap {
+    #[default]
+    Repeat,
+    Clamp,
+}
+
+/// How texels are interpolated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum TexFilter {
+    #[default]
+    Bilinear,
+    Nearest,
+}
+
+/// Where a texture sits on the surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvMap {
+    pub scale: Vec2,
+    pub offset: Vec2,
+}
+
+impl UvMap {
+    #[inline]
+    fn apply(&self, uv: Vec2) -> Vec2 {
+        uv * self.scale + self.offset
+    }
+}
+
+/// A grid of values addressed by texture coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid<T> {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<T>,
+    pub wrap: Wrap,
+    pub filter: TexFilter,
+    pub map: UvMap,
+}
+
+impl<T: Copy> Grid<T> {
+    /// The (up to) four texels around `uv` with their bilinear weights.
+    #[inline]
+    fn taps(&self, uv: Vec2) -> [(T, f32); 4] {
+        let p = self.map.apply(uv);
+        let (w, h) = (self.width as f32, self.height as f32);
+        match self.filter {
+            TexFilter::Nearest => {
+                let t = self.texels[self.index(p.x * w, p.y * h)];
+                [(t, 1.0), (t, 0.0), (t, 0.0), (t, 0.0)]
+            }
+            TexFilter::Bilinear => {
+                let (x, y) = (p.x * w - 0.5, p.y * h - 0.5);
+                let (x0, y0) = (x.floor(), y.floor());
+                let (fx, fy) = (x - x0, y - y0);
+                [
+                    (self.texels[self.index(x0, y0)], (1.0 - fx) * (1.0 - fy)),
+                    (self.texels[self.index(x0 + 1.0, y0)], fx * (1.0 - fy)),
+                    (self.texels[self.index(x0, y0 + 1.0)], (1.0 - fx) * fy),
+                    (self.texels[self.index(x0 + 1.0, y0 + 1.0)], fx * fy),
+                ]
+            }
+        }
+    }
+
+    #[inline]
+    fn index(&self, x: f32, y: f32) -> usize {
+        let wrap = |v: f32, n: usize| -> usize {
+            let i = if v.is_finite() { v.floor() as i64 } else { 0 };
+            match self.wrap {
+                Wrap::Repeat => i.rem_euclid(n as i64) as usize,
+                Wrap::Clamp => i.clamp(0, n as i64 - 1) as usize,
+            }
+        };
+        wrap(y, self.height) * self.width + wrap(x, self.width)
+    }
+}
+
+/// A spectral parameter: uniform, checkerboard, or an RGB bitmap (bounded reflectance).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SpectralTexture {
+    Uniform(Curve),
+    /// `color0` where frac(u) and frac(v) fall in the same half, `color1` elsewhere (Mitsuba's).
+    Checkerboard {
+        color0: Curve,
+        color1: Curve,
+        map: UvMap,
+    },
+    Bitmap(Box<Grid<Sigmoid>>),
+}
+
+impl SpectralTexture {
+    #[inline]
+    pub fn eval<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Spectrum<N> {
+        match self {
+            SpectralTexture::Uniform(c) => c.eval(wl),
+            SpectralTexture::Checkerboard {
+                color0,
+                color1,
+                map,
+            } => {
+                if checker(map.apply(uv)) {
+                    color0.eval(wl)
+                } else {
+                    color1.eval(wl)
+                }
+            }
+            SpectralTexture::Bitmap(g) => {
+                let taps = g.taps(uv);
+                Spectrum::from_fn(|i| {
+                    taps.iter()
+                        .map(|(s, w)| {
+                            if *w > 0.0 {
+                                w * s.eval(wl.lambda[i])
+                            } else {
+                                0.0
+                            }
+                        })
+                        .sum()
+                })
+            }
+        }
+    }
+
+    /// The largest value the texture takes at any point and wavelength in [lo, hi] (for checks).
+    pub fn max_value(&self, lo: f32, hi: f32) -> f32 {
+        match self {
+            SpectralTexture::Uniform(c) => c.min_max(lo, hi).1,
+            SpectralTexture::Checkerboard { color0, color1, .. } => {
+                color0.min_max(lo, hi).1.max(color1.min_max(lo, hi).1)
+            }
+            // Bounded sigmoids never exceed 1.
+            SpectralTexture::Bitmap(_) => 1.0,
+        }
+    }
+}
+
+/// A scalar parameter (a blend weight, an opacity).
+#[derive(Clone, Debug, PartialEq)]
+pub enum FloatTexture {
+    Constant(f32),
+    Checkerboard {
+        value0: f32,
+        value1: f32,
+        map: UvMap,
+    },
+    Bitmap(Box<Grid<f32>>),
+}
+
+impl FloatTexture {
+    #[inline]
+    pub fn eval(&self, uv: Vec2) -> f32 {
+        match self {
+            FloatTexture::Constant(v) => *v,
+            FloatTexture::Checkerboard {
+                value0,
+                value1,
+                map,
+            } => {
+                if checker(map.apply(uv)) {
+                    *value0
+                } else {
+                    *value1
+                }
+            }
+            FloatTexture::Bitmap(g) => g.taps(uv).iter().map(|(v, w)| v * w).sum(),
+        }
+    }
+}
+
+#[inline]
+fn checker(p: Vec2) -> bool {
+    (p.x - p.x.floor() > 0.5) == (p.y - p.y.floor() > 0.5)
+}
+
+/// A decoded image: linear RGB, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RgbImage {
+    pub width: usize,
+    pub height: usize,
+    pub pixels: Vec<[f32; 3]>,
+}
+
+/// Reads a PNG/JPEG (8/16-bit; sRGB-decoded unless `raw`), OpenEXR (linear) or Radiance HDR
+/// (linear) image. Errors are plain messages naming the file.
+pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let name = path.display();
+    if !path.exists() {
+        return Err(format!("image `{name}` does not exist"));
+    }
+    if ext.as_deref() == Some("exr") {
+        // (width, pixels): the reader hands us the size first, then every pixel.
+        type Store = (usize, Vec<[f32; 3]>);
+        let img = exr::prelude::read_first_rgba_layer_from_file(
+            path,
+            |res, _| -> Store { (res.0, vec![[0.0; 3]; res.0 * res.1]) },
+            |s: &mut Store, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                s.1[pos.1 * s.0 + pos.0] = [r, g, b]
+            },
+        )
+        .map_err(|e| format!("`{name}`: cannot read OpenEXR: {e}"))?;
+        let (width, pixels) = img.layer_data.channel_data.pixels;
+        let height = if width == 0 { 0 } else { pixels.len() / width };
+        return Ok(RgbImage {
+            width,
+            height,
+            pixels,
+        });
+    }
+    let img = image::open(path).map_err(|e| format!("`{name}`: cannot read image: {e}"))?;
+    let linear = ext.as_deref() == Some("hdr");
+    let rgb = img.to_rgb32f();
+    let (width, height) = (rgb.width() as usize, rgb.height() as usize);
+    let decode = |v: f32| if raw || linear { v } else { srgb_decode(v) };
+    let pixels = rgb
+        .pixels()
+        .map(|p| [decode(p[0]), decode(p[1]), decode(p[2])])
+        .collect();
+    Ok(RgbImage {
+        width,
+        height,
+        pixels,
+    })
+}
+
+/// The sRGB transfer function's inverse.
+#[inline]
+pub fn srgb_decode(v: f32) -> f32 {
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+impl RgbImage {
+    /// Uplifts every texel to a bounded reflectance spectrum (components clamped to [0, 1]).
+    pub fn to_reflectance(&self, wrap: Wrap, filter: TexFilter, map: UvMap) -> Grid<Sigmoid> {
+        let texels = self
+            .pixels
+            .iter()
+            .map(|p| rgb2spec::fetch(p.map(|c| c.clamp(0.0, 1.0))))
+            .collect();
+        Grid {
+            width: self.width,
+            height: self.height,
+            texels,
+            wrap,
+            filter,
+            map,
+        }
+    }
+
+    /// Luminance (Rec. 709 weights) of every texel, for scalar parameters.
+    pub fn to_luminance(&self, wrap: Wrap, filter: TexFilter, map: UvMap) -> Grid<f32> {
+        let texels = self
+            .pixels
+            .iter()
+            .map(|p| 0.212_672_9 * p[0] + 0.715_152_2 * p[1] + 0.072_175 * p[2])
+            .collect();
+        Grid {
+            width: self.width,
+            height: self.height,
+            texels,
+            wrap,
+            filter,
+            map,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn checkerboard_and_wrap() {
+        let map = UvMap {
+            scale: Vec2::ONE,
+            offset: Vec2::ZERO,
+        };
+        let t = FloatTexture::Checkerboard {
+            value0: 1.0,
+            value1: 0.0,
+            map,
+        };
+        assert_eq!(t.eval(Vec2::new(0.25, 0.25)), 1.0);
+        assert_eq!(t.eval(Vec2::new(0.75, 0.25)), 0.0);
+        assert_eq!(t.eval(Vec2::new(1.75, 0.75)), 1.0);
+        let g = Grid {
+            width: 2,
+            height: 1,
+            texels: vec![0.0f32, 1.0],
+            wrap: Wrap::Repeat,
+            filter: TexFilter::Bilinear,
+            map,
+        };
+        let b = FloatTexture::Bitmap(Box::new(g.clone()));
+        // Texel centres at u = 0.25 and 0.75; halfway between them is 0.5.
+        assert!((b.eval(Vec2::new(0.25, 0.5)) - 0.0).abs() < 1e-6);
+        assert!((b.eval(Vec2::new(0.5, 0.5)) - 0.5).abs() < 1e-6);
+        // Repeat wraps u = 1.0 back to the first texel's neighbourhood.
+        assert!((b.eval(Vec2::new(1.0, 0.5)) - 0.5).abs() < 1e-6);
+        let clamp = FloatTexture::Bitmap(Box::new(Grid {
+            wrap: Wrap::Clamp,
+            ..g
+        }));
+        assert!((clamp.eval(Vec2::new(1.0, 0.5)) - 1.0).abs() < 1e-6);
+    }
+}
