@@ -217,7 +217,7 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
         )
         .map_err(|e| format!("`{name}`: cannot read OpenEXR: {e}"))?;
         let (width, pixels) = img.layer_data.channel_data.pixels;
-        let height = if width == 0 { 0 } else { pixels.len() / width };
+        let height = pixels.len().checked_div(width).unwrap_or(0);
         return Ok(RgbImage {
             width,
             height,
