@@ -55,6 +55,9 @@ pub enum Material {
 #[derive(Clone, Copy, Debug)]
 pub enum Lobe<const N: usize> {
     Diffuse(Diffuse<N>),
+    // Conductors.
+    // Dielectrics.
+    // Plastics.
     /// Passes light straight through, unchanged (the transparent part of a `mask`).
     Null,
 }
@@ -161,6 +164,9 @@ impl<const N: usize> Lobe<N> {
     fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         match self {
             Lobe::Diffuse(b) => b.eval(wi, wo),
+            // Conductors.
+            // Dielectrics.
+            // Plastics.
             Lobe::Null => Spectrum::zero(),
         }
     }
@@ -170,6 +176,9 @@ impl<const N: usize> Lobe<N> {
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         match self {
             Lobe::Diffuse(b) => b.pdf(wi, wo),
+            // Conductors.
+            // Dielectrics.
+            // Plastics.
             Lobe::Null => 0.0,
         }
     }
@@ -177,13 +186,21 @@ impl<const N: usize> Lobe<N> {
     /// Per-lane densities of sampling `wo`.
     #[inline]
     fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
-        Spectrum::splat(self.pdf(wi, wo))
+        match self {
+            Lobe::Diffuse(_) | Lobe::Null => Spectrum::splat(self.pdf(wi, wo)),
+            // Conductors.
+            // Dielectrics.
+            // Plastics.
+        }
     }
 
     #[inline]
     fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
         match self {
             Lobe::Diffuse(b) => b.sample(wi, uc, u),
+            // Conductors.
+            // Dielectrics.
+            // Plastics.
             Lobe::Null => Some(BsdfSample {
                 wo: -wi,
                 pdf: 1.0,
@@ -198,13 +215,24 @@ impl<const N: usize> Lobe<N> {
     /// True if the lobe has a non-Dirac part (emitter sampling can reach it).
     #[inline]
     fn has_smooth(&self) -> bool {
-        !matches!(self, Lobe::Null)
+        match self {
+            Lobe::Diffuse(_) => true,
+            // Conductors.
+            // Dielectrics.
+            // Plastics.
+            Lobe::Null => false,
+        }
     }
 
     /// True if the lobe's sampling depends on wavelength.
     #[inline]
     fn dispersive(&self) -> bool {
-        false
+        match self {
+            Lobe::Diffuse(_) | Lobe::Null => false,
+            // Conductors.
+            // Dielectrics.
+            // Plastics.
+        }
     }
 }
 

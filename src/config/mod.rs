@@ -217,6 +217,9 @@ pub enum MaterialConfig {
         opacity: FloatConfig,
         bsdf: Box<MaterialConfig>,
     },
+    // Conductors.
+    // Dielectrics.
+    // Plastics.
 }
 
 fn half_grey() -> SpectrumConfig {

@@ -20,6 +20,7 @@ pub enum Emitter {
     Point { position: Vec3, intensity: Curve },
     /// Radiance `radiance` arriving from every direction at infinity.
     Constant { radiance: Curve },
+    // Spot, directional and environment-map emitters.
 }
 
 /// Light arriving at a point from a sampled point on an emitter.

@@ -66,6 +66,9 @@ fn build(
             inner: Box::new(build(bsdf, &ctx("bsdf"), file, range, warnings)?),
             opacity: float(opacity, &ctx("opacity"), file)?,
         },
+        // Conductors.
+        // Dielectrics.
+        // Plastics.
     })
 }
 
