@@ -135,6 +135,32 @@ impl SpectralTexture {
         }
     }
 
+    /// The mean value over the surface and over [lo, hi] nm (steers sampling between lobes;
+    /// bitmaps are averaged over at most ~4096 evenly spread texels).
+    pub fn mean(&self, lo: f32, hi: f32) -> f32 {
+        match self {
+            SpectralTexture::Uniform(c) => c.average(lo, hi),
+            SpectralTexture::Checkerboard { color0, color1, .. } => {
+                0.5 * (color0.average(lo, hi) + color1.average(lo, hi))
+            }
+            SpectralTexture::Bitmap(g) => {
+                let step = (g.texels.len() / 4096).max(1);
+                let picked: Vec<&Sigmoid> = g.texels.iter().step_by(step).collect();
+                let n = 16;
+                let sum: f32 = picked
+                    .iter()
+                    .map(|s| {
+                        (0..n)
+                            .map(|i| s.eval(lo + (i as f32 + 0.5) * (hi - lo) / n as f32))
+                            .sum::<f32>()
+                            / n as f32
+                    })
+                    .sum();
+                sum / picked.len() as f32
+            }
+        }
+    }
+
     /// The largest value the texture takes at any point and wavelength in [lo, hi] (for checks).
     pub fn max_value(&self, lo: f32, hi: f32) -> f32 {
         match self {

@@ -18,12 +18,17 @@
 mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
+mod plastic;
+pub mod roughplastic;
 
 use crate::interaction::SurfaceInteraction;
 use crate::spectrum::{Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture};
 pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
+use microfacet::Microfacet;
+pub use plastic::Plastic;
+pub use roughplastic::RoughPlastic;
 
 /// Most leaf lobes one material may combine (blends and masks of blends…).
 pub const MAX_LOBES: usize = 4;
@@ -49,15 +54,52 @@ pub enum Material {
         inner: Box<Material>,
         opacity: FloatTexture,
     },
+    // Conductors.
+    // Dielectrics.
+    // Plastics.
+    /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
+    Plastic {
+        diffuse: SpectralTexture,
+        specular: SpectralTexture,
+        eta: f32,
+        /// Hemispherical average of the internal Fresnel reflectance.
+        internal: f32,
+        nonlinear: bool,
+        specular_weight: f32,
+    },
+    /// A rough coating over a diffuse base (Mitsuba's `roughplastic`).
+    RoughPlastic {
+        diffuse: SpectralTexture,
+        specular: SpectralTexture,
+        eta: f32,
+        microfacet: Microfacet,
+        transmittance: Box<roughplastic::TransmittanceTable>,
+        internal: f32,
+        nonlinear: bool,
+        specular_weight: f32,
+    },
+}
+
+/// ρ' = ρ / (1 − F_dr), or ρ / (1 − ρ F_dr) with `nonlinear`: the diffuse base with the light
+/// that bounces between it and the coating's underside folded in.
+#[inline]
+fn fold_internal<const N: usize>(rho: Spectrum<N>, internal: f32, nonlinear: bool) -> Spectrum<N> {
+    if nonlinear {
+        Spectrum::from_fn(|i| rho[i] / (1.0 - rho[i] * internal))
+    } else {
+        rho / (1.0 - internal)
+    }
 }
 
 /// One leaf BSDF at a hit, at the path's wavelengths.
 #[derive(Clone, Copy, Debug)]
-pub enum Lobe<const N: usize> {
+pub enum Lobe<'a, const N: usize> {
     Diffuse(Diffuse<N>),
     // Conductors.
     // Dielectrics.
     // Plastics.
+    Plastic(Plastic<N>),
+    RoughPlastic(RoughPlastic<'a, N>),
     /// Passes light straight through, unchanged (the transparent part of a `mask`).
     Null,
 }
@@ -82,8 +124,8 @@ pub struct BsdfSample<const N: usize> {
 
 /// A BSDF at one hit: a mixture of leaf lobes whose weights sum to 1.
 #[derive(Clone, Copy, Debug)]
-pub struct Bsdf<const N: usize> {
-    lobes: [(Lobe<N>, f32, bool); MAX_LOBES],
+pub struct Bsdf<'a, const N: usize> {
+    lobes: [(Lobe<'a, N>, f32, bool); MAX_LOBES],
     count: usize,
 }
 
@@ -100,12 +142,12 @@ impl Material {
 
     /// The BSDF at `si` for a path arriving from local direction `wi`.
     #[inline]
-    pub fn bsdf<const N: usize>(
-        &self,
+    pub fn bsdf<'a, const N: usize>(
+        &'a self,
         si: &SurfaceInteraction,
         wi: Vec3,
         wl: &Wavelengths<N>,
-    ) -> Bsdf<N> {
+    ) -> Bsdf<'a, N> {
         let mut b = Bsdf {
             lobes: [(Lobe::Null, 0.0, false); MAX_LOBES],
             count: 0,
@@ -114,18 +156,51 @@ impl Material {
         b
     }
 
-    fn add_lobes<const N: usize>(
-        &self,
+    fn add_lobes<'a, const N: usize>(
+        &'a self,
         si: &SurfaceInteraction,
         wi: Vec3,
         wl: &Wavelengths<N>,
         weight: f32,
         flip: bool,
-        out: &mut Bsdf<N>,
+        out: &mut Bsdf<'a, N>,
     ) {
         let lobe = match self {
             Material::Diffuse { reflectance } => Lobe::Diffuse(Diffuse {
                 reflectance: reflectance.eval(si.uv, wl),
+            }),
+            // Conductors.
+            // Dielectrics.
+            // Plastics.
+            Material::Plastic {
+                diffuse,
+                specular,
+                eta,
+                internal,
+                nonlinear,
+                specular_weight,
+            } => Lobe::Plastic(Plastic {
+                diffuse: fold_internal(diffuse.eval(si.uv, wl), *internal, *nonlinear),
+                specular: specular.eval(si.uv, wl),
+                eta: *eta,
+                specular_weight: *specular_weight,
+            }),
+            Material::RoughPlastic {
+                diffuse,
+                specular,
+                eta,
+                microfacet,
+                transmittance,
+                internal,
+                nonlinear,
+                specular_weight,
+            } => Lobe::RoughPlastic(RoughPlastic {
+                diffuse: fold_internal(diffuse.eval(si.uv, wl), *internal, *nonlinear),
+                specular: specular.eval(si.uv, wl),
+                eta: *eta,
+                microfacet: *microfacet,
+                specular_weight: *specular_weight,
+                transmittance,
             }),
             Material::Twosided { front, back } => {
                 // The side is decided by where the path arrives from, as Mitsuba does.
@@ -151,8 +226,8 @@ impl Material {
     }
 }
 
-impl<const N: usize> Lobe<N> {
-    fn push(self, weight: f32, flip: bool, out: &mut Bsdf<N>) {
+impl<'a, const N: usize> Lobe<'a, N> {
+    fn push(self, weight: f32, flip: bool, out: &mut Bsdf<'a, N>) {
         if weight > 0.0 && out.count < MAX_LOBES {
             out.lobes[out.count] = (self, weight, flip);
             out.count += 1;
@@ -167,6 +242,8 @@ impl<const N: usize> Lobe<N> {
             // Conductors.
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(b) => b.eval(wi, wo),
+            Lobe::RoughPlastic(b) => b.eval(wi, wo),
             Lobe::Null => Spectrum::zero(),
         }
     }
@@ -179,6 +256,8 @@ impl<const N: usize> Lobe<N> {
             // Conductors.
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(b) => b.pdf(wi, wo),
+            Lobe::RoughPlastic(b) => b.pdf(wi, wo),
             Lobe::Null => 0.0,
         }
     }
@@ -191,6 +270,7 @@ impl<const N: usize> Lobe<N> {
             // Conductors.
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => Spectrum::splat(self.pdf(wi, wo)),
         }
     }
 
@@ -201,6 +281,8 @@ impl<const N: usize> Lobe<N> {
             // Conductors.
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(b) => b.sample(wi, uc, u),
+            Lobe::RoughPlastic(b) => b.sample(wi, uc, u),
             Lobe::Null => Some(BsdfSample {
                 wo: -wi,
                 pdf: 1.0,
@@ -220,6 +302,7 @@ impl<const N: usize> Lobe<N> {
             // Conductors.
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => true,
             Lobe::Null => false,
         }
     }
@@ -232,6 +315,7 @@ impl<const N: usize> Lobe<N> {
             // Conductors.
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => false,
         }
     }
 }
@@ -246,7 +330,7 @@ fn mirror(v: Vec3, flip: bool) -> Vec3 {
     }
 }
 
-impl<const N: usize> Bsdf<N> {
+impl<const N: usize> Bsdf<'_, N> {
     /// f(wi, wo) · |cos θ_o| of the smooth lobes (Dirac lobes contribute nothing here).
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {

@@ -220,6 +220,55 @@ pub enum MaterialConfig {
     // Conductors.
     // Dielectrics.
     // Plastics.
+    /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
+    /// Defaults: diffuse_reflectance 0.5, specular_reflectance 1, int_ior 1.49
+    /// (polypropylene), ext_ior 1.000277 (air), nonlinear false.
+    Plastic {
+        #[serde(default = "half_grey")]
+        diffuse_reflectance: SpectrumConfig,
+        #[serde(default = "one_spectrum")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "polypropylene")]
+        int_ior: f32,
+        #[serde(default = "air")]
+        ext_ior: f32,
+        #[serde(default)]
+        nonlinear: bool,
+    },
+    /// A rough coating over a diffuse base (Mitsuba's `roughplastic`): isotropic `Beckmann`
+    /// (default) or `Ggx` with roughness `alpha` (default 0.1); other defaults as `Plastic`.
+    RoughPlastic {
+        #[serde(default)]
+        distribution: crate::bsdf::microfacet::Distribution,
+        #[serde(default = "point_one")]
+        alpha: f32,
+        #[serde(default = "half_grey")]
+        diffuse_reflectance: SpectrumConfig,
+        #[serde(default = "one_spectrum")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "polypropylene")]
+        int_ior: f32,
+        #[serde(default = "air")]
+        ext_ior: f32,
+        #[serde(default)]
+        nonlinear: bool,
+    },
+}
+
+fn one_spectrum() -> SpectrumConfig {
+    SpectrumConfig::Constant(1.0)
+}
+
+fn polypropylene() -> f32 {
+    1.49
+}
+
+fn air() -> f32 {
+    1.000_277
+}
+
+fn point_one() -> f32 {
+    0.1
 }
 
 fn half_grey() -> SpectrumConfig {

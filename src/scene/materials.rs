@@ -1,11 +1,12 @@
 //! Materials from the config.
 
-use crate::bsdf::{Material, MAX_LOBES};
+use crate::bsdf::microfacet::Microfacet;
+use crate::bsdf::{fresnel, roughplastic, Material, MAX_LOBES};
 use crate::config::{
     spectrum::uv_map, spectrum_ctx, FloatConfig, FloatTextureConfig, MaterialConfig, Role,
 };
 use crate::error::InputError;
-use crate::texture::{self, FloatTexture};
+use crate::texture::{self, FloatTexture, SpectralTexture};
 use std::path::Path;
 
 /// Builds material `name`; its spectra are checked over the render's wavelength `range`.
@@ -69,6 +70,66 @@ fn build(
         // Conductors.
         // Dielectrics.
         // Plastics.
+        MaterialConfig::Plastic {
+            diffuse_reflectance,
+            specular_reflectance,
+            int_ior,
+            ext_ior,
+            nonlinear,
+        } => {
+            let eta = relative_ior(*int_ior, *ext_ior, field, file)?;
+            let diffuse = diffuse_reflectance.resolve_texture(
+                Role::Reflectance,
+                &spectrum_ctx(file, &ctx("diffuse_reflectance"), range),
+                warnings,
+            )?;
+            let specular = specular_reflectance.resolve_texture(
+                Role::Reflectance,
+                &spectrum_ctx(file, &ctx("specular_reflectance"), range),
+                warnings,
+            )?;
+            Material::Plastic {
+                specular_weight: specular_weight(&diffuse, &specular, range),
+                diffuse,
+                specular,
+                eta,
+                internal: fresnel::dielectric_average(1.0 / eta),
+                nonlinear: *nonlinear,
+            }
+        }
+        MaterialConfig::RoughPlastic {
+            distribution,
+            alpha,
+            diffuse_reflectance,
+            specular_reflectance,
+            int_ior,
+            ext_ior,
+            nonlinear,
+        } => {
+            let eta = relative_ior(*int_ior, *ext_ior, field, file)?;
+            check_alpha(*alpha, &ctx("alpha"), file)?;
+            let microfacet = Microfacet::new(*distribution, *alpha, *alpha);
+            let diffuse = diffuse_reflectance.resolve_texture(
+                Role::Reflectance,
+                &spectrum_ctx(file, &ctx("diffuse_reflectance"), range),
+                warnings,
+            )?;
+            let specular = specular_reflectance.resolve_texture(
+                Role::Reflectance,
+                &spectrum_ctx(file, &ctx("specular_reflectance"), range),
+                warnings,
+            )?;
+            Material::RoughPlastic {
+                specular_weight: specular_weight(&diffuse, &specular, range),
+                diffuse,
+                specular,
+                eta,
+                transmittance: roughplastic::transmittance_table(&microfacet, eta),
+                internal: roughplastic::internal_reflectance(&microfacet, eta),
+                microfacet,
+                nonlinear: *nonlinear,
+            }
+        }
     })
 }
 
@@ -121,4 +182,44 @@ fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, Inpu
             )))
         }
     })
+}
+
+/// η = int / ext, both positive and finite.
+fn relative_ior(int: f32, ext: f32, field: &str, file: &Path) -> Result<f32, InputError> {
+    for (v, name) in [(int, "int_ior"), (ext, "ext_ior")] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(
+                InputError::new(file, format!("{name} {v} must be a positive number"))
+                    .field(format!("{field}.{name}")),
+            );
+        }
+    }
+    Ok(int / ext)
+}
+
+/// Microfacet roughness: Mitsuba accepts any positive value; above 1 the models leave their
+/// range of validity, so prism refuses it.
+pub fn check_alpha(alpha: f32, field: &str, file: &Path) -> Result<(), InputError> {
+    if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
+        return Err(
+            InputError::new(file, format!("roughness {alpha} must lie in (0, 1]"))
+                .field(field)
+                .hint("use a smooth material for a perfectly specular surface"),
+        );
+    }
+    Ok(())
+}
+
+/// Mitsuba's share of samples for the specular lobe: mean(specular) / (mean(diffuse) + mean(specular)).
+fn specular_weight(
+    diffuse: &SpectralTexture,
+    specular: &SpectralTexture,
+    (lo, hi): (f32, f32),
+) -> f32 {
+    let (d, s) = (diffuse.mean(lo, hi), specular.mean(lo, hi));
+    if d + s > 0.0 {
+        s / (d + s)
+    } else {
+        0.5
+    }
 }
