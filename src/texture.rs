@@ -49,6 +49,16 @@ pub struct Grid<T> {
     pub wrap: Wrap,
     pub filter: TexFilter,
     pub map: UvMap,
+    /// The image file it came from (for exporting the scene to other renderers).
+    pub source: Option<ImageSource>,
+}
+
+/// Where an image came from and how it was read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageSource {
+    pub path: std::path::PathBuf,
+    /// 8-bit values taken as they are (not sRGB-decoded).
+    pub raw: bool,
 }
 
 impl<T: Copy> Grid<T> {
@@ -218,6 +228,7 @@ pub struct RgbImage {
     pub width: usize,
     pub height: usize,
     pub pixels: Vec<[f32; 3]>,
+    pub source: Option<ImageSource>,
 }
 
 /// Reads a PNG/JPEG (8/16-bit; sRGB-decoded unless `raw`), OpenEXR (linear) or Radiance HDR
@@ -244,10 +255,15 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
         .map_err(|e| format!("`{name}`: cannot read OpenEXR: {e}"))?;
         let (width, pixels) = img.layer_data.channel_data.pixels;
         let height = pixels.len().checked_div(width).unwrap_or(0);
+        let source = Some(ImageSource {
+            path: path.to_path_buf(),
+            raw,
+        });
         return Ok(RgbImage {
             width,
             height,
             pixels,
+            source,
         });
     }
     let img = image::open(path).map_err(|e| format!("`{name}`: cannot read image: {e}"))?;
@@ -259,10 +275,15 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
         .pixels()
         .map(|p| [decode(p[0]), decode(p[1]), decode(p[2])])
         .collect();
+    let source = Some(ImageSource {
+        path: path.to_path_buf(),
+        raw,
+    });
     Ok(RgbImage {
         width,
         height,
         pixels,
+        source,
     })
 }
 
@@ -291,6 +312,7 @@ impl RgbImage {
             wrap,
             filter,
             map,
+            source: self.source.clone(),
         }
     }
 
@@ -308,6 +330,7 @@ impl RgbImage {
             wrap,
             filter,
             map,
+            source: self.source.clone(),
         }
     }
 }
@@ -331,6 +354,7 @@ mod tests {
         assert_eq!(t.eval(Vec2::new(0.75, 0.25)), 0.0);
         assert_eq!(t.eval(Vec2::new(1.75, 0.75)), 1.0);
         let g = Grid {
+            source: None,
             width: 2,
             height: 1,
             texels: vec![0.0f32, 1.0],
