@@ -51,7 +51,7 @@ fn wavelengths(u: f32) -> Wavelengths<4> {
     WavelengthSampler::new(WavelengthSampling::Uniform, 360.0, 830.0).sample(u)
 }
 
-fn bsdf(m: &Material, wi: Vec3) -> Bsdf<4> {
+fn bsdf(m: &Material, wi: Vec3) -> Bsdf<'_, 4> {
     m.bsdf(&hit(), wi, &wavelengths(0.37))
 }
 
