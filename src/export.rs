@@ -208,10 +208,10 @@ impl Ctx {
             } => {
                 json!({"type": "point", "position": position.to_array(), "intensity": self.spectrum(intensity)})
             }
+            // Spot, directional and environment-map emitters.
             Emitter::Constant { radiance } => {
                 json!({"type": "constant", "radiance": self.spectrum(radiance)})
             }
-            // Spot, directional and environment-map emitters.
         }
     }
 }
