@@ -15,15 +15,20 @@
 //! lane's BSDF would have produced the same direction (`pdf_lanes`); the integrator weights the
 //! lanes by spectral MIS with them (Wilkie et al. 2014).
 
+mod conductor;
 mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
+mod roughconductor;
 
 use crate::interaction::SurfaceInteraction;
 use crate::spectrum::{Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture};
+pub use conductor::{Conductor, ConductorParams};
 pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
+use microfacet::{Distribution, Microfacet};
+pub use roughconductor::RoughConductor;
 
 /// Most leaf lobes one material may combine (blends and masks of blends…).
 pub const MAX_LOBES: usize = 4;
@@ -49,6 +54,16 @@ pub enum Material {
         inner: Box<Material>,
         opacity: FloatTexture,
     },
+    /// Mirror reflection with a conductor's Fresnel reflectance (Mitsuba's `conductor`).
+    Conductor(ConductorParams),
+    /// Microfacet reflection from a conductor (Mitsuba's `roughconductor`); the roughnesses
+    /// along the tangent and bitangent may vary over the surface.
+    RoughConductor {
+        params: ConductorParams,
+        distribution: Distribution,
+        alpha_u: FloatTexture,
+        alpha_v: FloatTexture,
+    },
 }
 
 /// One leaf BSDF at a hit, at the path's wavelengths.
@@ -56,6 +71,10 @@ pub enum Material {
 pub enum Lobe<const N: usize> {
     Diffuse(Diffuse<N>),
     // Conductors.
+    /// Mirror reflection, Fresnel-weighted per wavelength.
+    Conductor(Conductor<N>),
+    /// Microfacet reflection, Fresnel-weighted per wavelength.
+    RoughConductor(RoughConductor<N>),
     // Dielectrics.
     // Plastics.
     /// Passes light straight through, unchanged (the transparent part of a `mask`).
@@ -146,6 +165,21 @@ impl Material {
                 Lobe::Null.push(weight * (1.0 - a), false, out);
                 return;
             }
+            Material::Conductor(p) => Lobe::Conductor(p.at(si.uv, wl)),
+            Material::RoughConductor {
+                params,
+                distribution,
+                alpha_u,
+                alpha_v,
+            } => Lobe::RoughConductor(RoughConductor {
+                surface: params.at(si.uv, wl),
+                // Texture values outside [0, 1] are clamped, as for blend weights and opacities.
+                distr: Microfacet::new(
+                    *distribution,
+                    alpha_u.eval(si.uv).clamp(0.0, 1.0),
+                    alpha_v.eval(si.uv).clamp(0.0, 1.0),
+                ),
+            }),
         };
         lobe.push(weight, flip, out);
     }
@@ -165,6 +199,8 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(b) => b.eval(wi, wo),
             // Conductors.
+            Lobe::Conductor(_) => Spectrum::zero(),
+            Lobe::RoughConductor(b) => b.eval(wi, wo),
             // Dielectrics.
             // Plastics.
             Lobe::Null => Spectrum::zero(),
@@ -177,6 +213,8 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(b) => b.pdf(wi, wo),
             // Conductors.
+            Lobe::Conductor(_) => 0.0,
+            Lobe::RoughConductor(b) => b.pdf(wi, wo),
             // Dielectrics.
             // Plastics.
             Lobe::Null => 0.0,
@@ -189,6 +227,7 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(_) | Lobe::Null => Spectrum::splat(self.pdf(wi, wo)),
             // Conductors.
+            Lobe::Conductor(_) | Lobe::RoughConductor(_) => Spectrum::splat(self.pdf(wi, wo)),
             // Dielectrics.
             // Plastics.
         }
@@ -199,6 +238,8 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(b) => b.sample(wi, uc, u),
             // Conductors.
+            Lobe::Conductor(b) => b.sample(wi, uc, u),
+            Lobe::RoughConductor(b) => b.sample(wi, uc, u),
             // Dielectrics.
             // Plastics.
             Lobe::Null => Some(BsdfSample {
@@ -218,6 +259,8 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(_) => true,
             // Conductors.
+            Lobe::Conductor(_) => false,
+            Lobe::RoughConductor(_) => true,
             // Dielectrics.
             // Plastics.
             Lobe::Null => false,
@@ -230,6 +273,7 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(_) | Lobe::Null => false,
             // Conductors.
+            Lobe::Conductor(_) | Lobe::RoughConductor(_) => false,
             // Dielectrics.
             // Plastics.
         }
