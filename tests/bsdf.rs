@@ -22,7 +22,7 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 /// Chi-square tests this file runs (for the significance level).
-const CHI2_TESTS: usize = 66;
+const CHI2_TESTS: usize = 67;
 
 /// A material from its RON config (through the scene loader, so checks apply).
 pub fn material(cfg: &str) -> Material {
@@ -393,6 +393,14 @@ fn smooth_conductor() {
             .is_none(),
         "one-sided"
     );
+    // Blended with a rough lobe, the Dirac part is drawn with its weight (the chi-square's
+    // Dirac cell) and the rest follows the rough lobe's density.
+    let mix =
+        "Blend(weight: 0.4, bsdf0: Conductor(material: \"Au\"), bsdf1: RoughConductor(alpha: 0.3))";
+    let m = material(mix);
+    chi2(mix, &m, dir(30.0));
+    consistency(mix, &m, dir(30.0));
+    energy_at_most_one(mix, &m);
     // specular_reflectance scales the reflection (exactly: the mirror's F is 1).
     let half = material("Conductor(specular_reflectance: Constant(0.5))");
     let (a, _) = albedo(&half, dir(20.0));

@@ -44,12 +44,16 @@ impl<const N: usize> Conductor<N> {
 /// A conductor's parameters as the scene gives them, before a hit fixes the wavelengths and uv.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConductorParams {
+    /// Real part of the index of refraction.
     pub eta: Curve,
+    /// Imaginary part.
     pub k: Curve,
+    /// Factor on the reflection; may vary over the surface.
     pub specular_reflectance: SpectralTexture,
 }
 
 impl ConductorParams {
+    /// The conductor at a hit's uv and the path's wavelengths.
     #[inline]
     pub fn at<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Conductor<N> {
         Conductor {

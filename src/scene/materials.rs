@@ -69,21 +69,6 @@ fn build(
             opacity: float(opacity, &ctx("opacity"), file)?,
         },
         // Conductors.
-        MaterialConfig::Conductor {
-            material,
-            eta,
-            k,
-            specular_reflectance,
-        } => Material::Conductor(conductor(
-            material.as_deref(),
-            eta.as_ref(),
-            k.as_ref(),
-            specular_reflectance,
-            field,
-            file,
-            range,
-            warnings,
-        )?),
         MaterialConfig::RoughConductor {
             distribution,
             alpha,
@@ -94,32 +79,7 @@ fn build(
             k,
             specular_reflectance,
         } => {
-            let (alpha_u, alpha_v) = match (alpha, alpha_u, alpha_v) {
-                (None, None, None) => (FloatTexture::Constant(0.1), FloatTexture::Constant(0.1)),
-                (Some(a), None, None) => {
-                    let a = roughness(a, &ctx("alpha"), file)?;
-                    (a.clone(), a)
-                }
-                (None, Some(u), Some(v)) => (
-                    roughness(u, &ctx("alpha_u"), file)?,
-                    roughness(v, &ctx("alpha_v"), file)?,
-                ),
-                (Some(_), _, _) => {
-                    return Err(InputError::new(
-                        file,
-                        "give either `alpha` or `alpha_u` and `alpha_v`, not both",
-                    )
-                    .field(field))
-                }
-                (None, _, _) => {
-                    return Err(InputError::new(
-                        file,
-                        "an anisotropic roughness needs both `alpha_u` and `alpha_v`",
-                    )
-                    .field(field)
-                    .hint("or give one `alpha` for both directions"))
-                }
-            };
+            let (alpha_u, alpha_v) = roughnesses(alpha, alpha_u, alpha_v, field, file)?;
             Material::RoughConductor {
                 params: conductor(
                     material.as_deref(),
@@ -135,8 +95,24 @@ fn build(
                 alpha_u,
                 alpha_v,
             }
-        } // Dielectrics.
-          // Plastics.
+        }
+        MaterialConfig::Conductor {
+            material,
+            eta,
+            k,
+            specular_reflectance,
+        } => Material::Conductor(conductor(
+            material.as_deref(),
+            eta.as_ref(),
+            k.as_ref(),
+            specular_reflectance,
+            field,
+            file,
+            range,
+            warnings,
+        )?),
+        // Dielectrics.
+        // Plastics.
     })
 }
 
@@ -205,6 +181,44 @@ fn conductor(
             &spectrum_ctx(file, &ctx("specular_reflectance"), range),
             warnings,
         )?,
+    })
+}
+
+/// The roughnesses along u and v: `alpha` for both, or `alpha_u` and `alpha_v` (Mitsuba's rules:
+/// both or neither of those two, and not with `alpha`); default 0.1.
+fn roughnesses(
+    alpha: &Option<FloatConfig>,
+    alpha_u: &Option<FloatConfig>,
+    alpha_v: &Option<FloatConfig>,
+    field: &str,
+    file: &Path,
+) -> Result<(FloatTexture, FloatTexture), InputError> {
+    let ctx = |sub: &str| format!("{field}.{sub}");
+    Ok(match (alpha, alpha_u, alpha_v) {
+        (None, None, None) => (FloatTexture::Constant(0.1), FloatTexture::Constant(0.1)),
+        (Some(a), None, None) => {
+            let a = roughness(a, &ctx("alpha"), file)?;
+            (a.clone(), a)
+        }
+        (None, Some(u), Some(v)) => (
+            roughness(u, &ctx("alpha_u"), file)?,
+            roughness(v, &ctx("alpha_v"), file)?,
+        ),
+        (Some(_), _, _) => {
+            return Err(InputError::new(
+                file,
+                "give either `alpha` or `alpha_u` and `alpha_v`, not both",
+            )
+            .field(field))
+        }
+        (None, _, _) => {
+            return Err(InputError::new(
+                file,
+                "an anisotropic roughness needs both `alpha_u` and `alpha_v`",
+            )
+            .field(field)
+            .hint("or give one `alpha` for both directions"))
+        }
     })
 }
 
