@@ -174,6 +174,21 @@ impl Ctx {
                 json!({"type": "mask", "opacity": self.float_texture(opacity), "bsdf": self.material(inner)})
             }
             // Conductors.
+            Material::Conductor(p) => {
+                json!({"type": "conductor", "eta": self.spectrum(&p.eta), "k": self.spectrum(&p.k),
+                       "specular_reflectance": self.texture(&p.specular_reflectance)})
+            }
+            Material::RoughConductor {
+                params: p,
+                distribution,
+                alpha_u,
+                alpha_v,
+            } => {
+                json!({"type": "roughconductor", "eta": self.spectrum(&p.eta), "k": self.spectrum(&p.k),
+                       "specular_reflectance": self.texture(&p.specular_reflectance),
+                       "distribution": distribution_name(*distribution),
+                       "alpha_u": self.float_texture(alpha_u), "alpha_v": self.float_texture(alpha_v)})
+            }
             // Dielectrics.
             // Plastics.
             Material::Plastic {

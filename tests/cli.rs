@@ -247,3 +247,62 @@ fn missing_scene_file() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/scene.ron"));
 }
+
+#[test]
+fn bad_conductors() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "unknown metal",
+        &with("Conductor(material: \"Unobtainium\")"),
+        &[],
+        &[
+            "materials.\"grey\".material",
+            "Unobtainium",
+            "Au",
+            "Pt",
+            "none",
+        ],
+    );
+    assert_input_error(
+        "alpha zero",
+        &with("RoughConductor(material: \"Au\", alpha: 0)"),
+        &[],
+        &["materials.\"grey\".alpha", "(0, 1]", "Conductor"],
+    );
+    assert_input_error(
+        "alpha negative",
+        &with("RoughConductor(alpha_u: 0.1, alpha_v: -0.2)"),
+        &[],
+        &["materials.\"grey\".alpha_v", "(0, 1]"],
+    );
+    assert_input_error(
+        "alpha nan",
+        &with("RoughConductor(alpha: NaN)"),
+        &[],
+        &["materials.\"grey\".alpha"],
+    );
+    assert_input_error(
+        "alpha_u alone",
+        &with("RoughConductor(alpha_u: 0.1)"),
+        &[],
+        &["materials.\"grey\"", "alpha_v"],
+    );
+    assert_input_error(
+        "negative eta",
+        &with("Conductor(eta: Tabulated([(400, 0.2), (700, -0.1)]), k: Constant(3))"),
+        &[],
+        &["materials.\"grey\".eta", "negative"],
+    );
+    assert_input_error(
+        "rgb k",
+        &with("RoughConductor(eta: Constant(0.2), k: Rgb(3, 2, 1))"),
+        &[],
+        &["materials.\"grey\".k", "RGB"],
+    );
+    assert_input_error(
+        "metal and eta",
+        &with("Conductor(material: \"Cu\", eta: Constant(1.5))"),
+        &[],
+        &["materials.\"grey\"", "not both"],
+    );
+}

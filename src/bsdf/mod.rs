@@ -15,19 +15,24 @@
 //! lane's BSDF would have produced the same direction (`pdf_lanes`); the integrator weights the
 //! lanes by spectral MIS with them (Wilkie et al. 2014).
 
+mod conductor;
 mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
 mod plastic;
+mod roughconductor;
 pub mod roughplastic;
 
 use crate::interaction::SurfaceInteraction;
 use crate::spectrum::{Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture};
+pub use conductor::{Conductor, ConductorParams};
 pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
-use microfacet::Microfacet;
+
+use microfacet::{Distribution, Microfacet};
 pub use plastic::Plastic;
+pub use roughconductor::RoughConductor;
 pub use roughplastic::RoughPlastic;
 
 /// Most leaf lobes one material may combine (blends and masks of blends…).
@@ -55,6 +60,16 @@ pub enum Material {
         opacity: FloatTexture,
     },
     // Conductors.
+    /// Mirror reflection with a conductor's Fresnel reflectance (Mitsuba's `conductor`).
+    Conductor(ConductorParams),
+    /// Microfacet reflection from a conductor (Mitsuba's `roughconductor`); the roughnesses
+    /// along the tangent and bitangent may vary over the surface.
+    RoughConductor {
+        params: ConductorParams,
+        distribution: Distribution,
+        alpha_u: FloatTexture,
+        alpha_v: FloatTexture,
+    },
     // Dielectrics.
     // Plastics.
     /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
@@ -96,6 +111,10 @@ fn fold_internal<const N: usize>(rho: Spectrum<N>, internal: f32, nonlinear: boo
 pub enum Lobe<'a, const N: usize> {
     Diffuse(Diffuse<N>),
     // Conductors.
+    /// Mirror reflection, Fresnel-weighted per wavelength.
+    Conductor(Conductor<N>),
+    /// Microfacet reflection, Fresnel-weighted per wavelength.
+    RoughConductor(RoughConductor<N>),
     // Dielectrics.
     // Plastics.
     Plastic(Plastic<N>),
@@ -221,6 +240,21 @@ impl Material {
                 Lobe::Null.push(weight * (1.0 - a), false, out);
                 return;
             }
+            Material::Conductor(p) => Lobe::Conductor(p.at(si.uv, wl)),
+            Material::RoughConductor {
+                params,
+                distribution,
+                alpha_u,
+                alpha_v,
+            } => Lobe::RoughConductor(RoughConductor {
+                surface: params.at(si.uv, wl),
+                // Texture values outside [0, 1] are clamped, as for blend weights and opacities.
+                distr: Microfacet::new(
+                    *distribution,
+                    alpha_u.eval(si.uv).clamp(0.0, 1.0),
+                    alpha_v.eval(si.uv).clamp(0.0, 1.0),
+                ),
+            }),
         };
         lobe.push(weight, flip, out);
     }
@@ -240,6 +274,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
         match self {
             Lobe::Diffuse(b) => b.eval(wi, wo),
             // Conductors.
+            Lobe::Conductor(_) => Spectrum::zero(),
+            Lobe::RoughConductor(b) => b.eval(wi, wo),
             // Dielectrics.
             // Plastics.
             Lobe::Plastic(b) => b.eval(wi, wo),
@@ -254,6 +290,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
         match self {
             Lobe::Diffuse(b) => b.pdf(wi, wo),
             // Conductors.
+            Lobe::Conductor(_) => 0.0,
+            Lobe::RoughConductor(b) => b.pdf(wi, wo),
             // Dielectrics.
             // Plastics.
             Lobe::Plastic(b) => b.pdf(wi, wo),
@@ -268,6 +306,7 @@ impl<'a, const N: usize> Lobe<'a, N> {
         match self {
             Lobe::Diffuse(_) | Lobe::Null => Spectrum::splat(self.pdf(wi, wo)),
             // Conductors.
+            Lobe::Conductor(_) | Lobe::RoughConductor(_) => Spectrum::splat(self.pdf(wi, wo)),
             // Dielectrics.
             // Plastics.
             Lobe::Plastic(_) | Lobe::RoughPlastic(_) => Spectrum::splat(self.pdf(wi, wo)),
@@ -279,6 +318,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
         match self {
             Lobe::Diffuse(b) => b.sample(wi, uc, u),
             // Conductors.
+            Lobe::Conductor(b) => b.sample(wi, uc, u),
+            Lobe::RoughConductor(b) => b.sample(wi, uc, u),
             // Dielectrics.
             // Plastics.
             Lobe::Plastic(b) => b.sample(wi, uc, u),
@@ -300,6 +341,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
         match self {
             Lobe::Diffuse(_) => true,
             // Conductors.
+            Lobe::Conductor(_) => false,
+            Lobe::RoughConductor(_) => true,
             // Dielectrics.
             // Plastics.
             Lobe::Plastic(_) | Lobe::RoughPlastic(_) => true,
@@ -313,6 +356,7 @@ impl<'a, const N: usize> Lobe<'a, N> {
         match self {
             Lobe::Diffuse(_) | Lobe::Null => false,
             // Conductors.
+            Lobe::Conductor(_) | Lobe::RoughConductor(_) => false,
             // Dielectrics.
             // Plastics.
             Lobe::Plastic(_) | Lobe::RoughPlastic(_) => false,
