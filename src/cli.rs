@@ -58,6 +58,10 @@ pub struct RenderArgs {
     /// Worker threads. Default: one per core.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Acceleration structure (overrides the scene's `accel`); `embree` needs prism built with
+    /// `--features embree`.
+    #[arg(long, value_enum)]
+    pub accel: Option<crate::accel::AccelKind>,
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -100,6 +104,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if let Some(seed) = args.seed {
             cfg.sampler.seed = seed;
+        }
+        if let Some(accel) = args.accel {
+            cfg.accel = accel;
         }
     })?;
     let load_s = t_load.elapsed().as_secs_f64();
