@@ -62,6 +62,15 @@ pub struct RenderArgs {
     /// `--features embree`.
     #[arg(long, value_enum)]
     pub accel: Option<crate::accel::AccelKind>,
+    /// Sampler (overrides the scene's sampler.kind).
+    #[arg(long, value_enum)]
+    pub sampler: Option<crate::sampler::SamplerKind>,
+    /// Wavelengths per path (overrides the scene's spectral.wavelengths): 1, 2, 4, 8 or 16.
+    #[arg(long)]
+    pub wavelengths: Option<usize>,
+    /// Wavelength sampling (overrides the scene's spectral.sampling).
+    #[arg(long, value_enum)]
+    pub wavelength_sampling: Option<crate::spectrum::WavelengthSampling>,
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -107,6 +116,15 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if let Some(accel) = args.accel {
             cfg.accel = accel;
+        }
+        if let Some(kind) = args.sampler {
+            cfg.sampler.kind = kind;
+        }
+        if let Some(n) = args.wavelengths {
+            cfg.spectral.wavelengths = n;
+        }
+        if let Some(w) = args.wavelength_sampling {
+            cfg.spectral.sampling = w;
         }
     })?;
     let load_s = t_load.elapsed().as_secs_f64();
