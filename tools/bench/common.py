@@ -161,3 +161,23 @@ def machine_info() -> dict:
     except (OSError, StopIteration):
         pass
     return info
+
+
+def mitsuba_ladder(
+    python: str,
+    export_dir: pathlib.Path,
+    variant: str,
+    spps: list[int],
+    threads: int,
+    save_dir: pathlib.Path,
+    seed: int = 1,
+) -> dict:
+    """One timed Mitsuba render per spp of `spps`, images in save_dir/spp_N.exr; render_s is
+    keyed by str(spp)."""
+    cmd = [python, ROOT / "tools/bench/mitsuba_worker.py", export_dir, "--variant", variant,
+           "--ladder", ",".join(map(str, spps)), "--save-dir", save_dir, "--threads", str(threads), "--seed", str(seed)]
+    code, out, err, _, _ = measured(cmd, env=mitsuba_env())
+    try:
+        return json.loads(out.strip().splitlines()[-1])
+    except (IndexError, json.JSONDecodeError):
+        return {"error": (err.strip() or out.strip())[-400:] or f"exit code {code}"}

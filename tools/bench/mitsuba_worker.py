@@ -2,6 +2,10 @@
 
     python tools/bench/mitsuba_worker.py EXPORT_DIR --variant llvm_ad_spectral --spp 16 \
         [--threads 2] [--repeats 3] [--seed 1] [--save-exr OUT.exr]
+    python tools/bench/mitsuba_worker.py EXPORT_DIR --variant scalar_spectral --ladder 1,2,4 --save-dir DIR
+
+The second form renders once at each spp of the ladder (each after its own warm-up) and writes
+DIR/spp_N.exr: the error-against-time curves of error_time.py.
 
 Run by bench.py and error_time.py, one process per (variant, thread count): Dr.Jit fixes its
 backend per process, and a fresh process makes the peak RSS that the caller reads with wait4()
@@ -31,7 +35,9 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("export_dir", type=pathlib.Path)
     ap.add_argument("--variant", required=True)
-    ap.add_argument("--spp", type=int, required=True)
+    ap.add_argument("--spp", type=int, help="spp of the timed renders (or give --ladder)")
+    ap.add_argument("--ladder", help="comma-separated spp list: one timed render at each")
+    ap.add_argument("--save-dir", type=pathlib.Path, help="with --ladder: write spp_N.exr here")
     ap.add_argument("--threads", type=int)
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--seed", type=int, default=1)
@@ -48,10 +54,24 @@ def main() -> None:
         dr.set_thread_count(args.threads)
     from prism_tools.mitsuba_scene import convert, load
 
+    ladder = [int(x) for x in args.ladder.split(",")] if args.ladder else None
+    if not ladder and not args.spp:
+        ap.error("give --spp or --ladder")
     t0 = time.perf_counter()
-    scene = mi.load_dict(convert(load(args.export_dir / "scene.json"), spp=args.spp, seed=args.seed))
+    scene = mi.load_dict(convert(load(args.export_dir / "scene.json"), spp=args.spp or ladder[0], seed=args.seed))
     dr.sync_thread()
     load_s = time.perf_counter() - t0
+    if ladder:
+        args.save_dir.mkdir(parents=True, exist_ok=True)
+        times = {}
+        for spp in ladder:
+            np.asarray(mi.render(scene, spp=spp, seed=args.seed + 1000))  # warm-up (LLVM compiles)
+            t = time.perf_counter()
+            img = np.asarray(mi.render(scene, spp=spp, seed=args.seed))
+            times[spp] = time.perf_counter() - t
+            mi.Bitmap(img[..., :3]).write(str(args.save_dir / f"spp_{spp}.exr"))
+        print(json.dumps({"variant": args.variant, "threads": dr.thread_count(), "load_s": load_s, "render_s": times}))
+        return
 
     np.asarray(mi.render(scene, spp=args.spp, seed=args.seed + 1000))  # warm-up
     times = []
