@@ -38,6 +38,14 @@ pub struct Embree {
 
 impl Embree {
     pub fn build(prims: Vec<Prim>) -> Self {
+        Self::build_with(prims, true)
+    }
+
+    /// `exact` false leaves out the filter that applies prism's triangle test, so hits come
+    /// from Embree's own arithmetic (t and barycentrics may differ in the last bits, and near
+    /// hits are not rejected). Renders never use that; benches/traversal.rs does, to show
+    /// what the filter costs.
+    pub fn build_with(prims: Vec<Prim>, exact: bool) -> Self {
         let (tris, analytic): (Vec<Prim>, Vec<Prim>) = prims
             .into_iter()
             .partition(|p| matches!(p.geom, PrimGeom::Triangle(_)));
@@ -54,7 +62,7 @@ impl Embree {
         let mut tri_geom = INVALID_ID;
         let mut user_geom = INVALID_ID;
         if n_tris > 0 {
-            let g = triangle_geometry(&device, &geoms[..n_tris as usize], geoms.clone());
+            let g = triangle_geometry(&device, &geoms[..n_tris as usize], geoms.clone(), exact);
             tri_geom = scene.attach_geometry(&g);
         }
         if !analytic.is_empty() {
@@ -135,6 +143,7 @@ fn triangle_geometry(
     device: &Device,
     tris: &[PrimGeom],
     geoms: Arc<Vec<PrimGeom>>,
+    exact: bool,
 ) -> embree3::Geometry<'static> {
     let n = tris.len();
     let mut g = device
@@ -161,6 +170,9 @@ fn triangle_geometry(
             let b = 3 * k as u32;
             *t = [b, b + 1, b + 2];
         }
+    }
+    if !exact {
+        return g.commit();
     }
     g.set_intersect_filter_function_owned(
         |rays: RayN<'_>, mut hits: HitN<'_>, mut valid: ValidityN<'_>, _, data| {

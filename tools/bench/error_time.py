@@ -173,6 +173,8 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="smoke check: a few spp, small references")
     ap.add_argument("--scenes", default="cornell,materials,mesh")
     ap.add_argument("--threads", type=int, default=__import__("os").cpu_count())
+    ap.add_argument("--max-spp", type=int, help="top of every scene's spp ladder (overrides the table)")
+    ap.add_argument("--ref-spp", type=int, help="spp of every scene's references (overrides the table)")
     ap.add_argument("--out", type=pathlib.Path, help="output folder (default docs/bench, or out/bench/quick)")
     args = ap.parse_args()
     out = args.out or (ROOT / ("out/bench/quick" if args.quick else "docs/bench"))
@@ -188,6 +190,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for name in scenes:
             max_spp, ref_spp = table[name]
+            max_spp, ref_spp = args.max_spp or max_spp, args.ref_spp or ref_spp
             log(f"== {name}: ladder up to {max_spp} spp, references at {ref_spp} spp, {args.threads} threads")
             r, c = run_scene(name, binary, python, max_spp, ref_spp, args.threads, pathlib.Path(tmp))
             rows += r
