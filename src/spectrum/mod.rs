@@ -4,6 +4,7 @@
 pub mod color;
 pub mod curve;
 pub mod data;
+pub mod ior;
 pub mod rgb2spec;
 pub mod rgb2spec_fit;
 pub mod sampled;
@@ -11,5 +12,6 @@ pub mod table;
 pub mod wavelengths;
 
 pub use curve::Curve;
+pub use ior::{Ior, RelativeIor};
 pub use sampled::Spectrum;
 pub use wavelengths::{WavelengthSampler, WavelengthSampling, Wavelengths};
