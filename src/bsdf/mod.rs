@@ -15,15 +15,22 @@
 //! lane's BSDF would have produced the same direction (`pdf_lanes`); the integrator weights the
 //! lanes by spectral MIS with them (Wilkie et al. 2014).
 
+pub mod dielectric;
 mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
+pub mod roughdielectric;
+pub mod thindielectric;
 
 use crate::interaction::SurfaceInteraction;
-use crate::spectrum::{Spectrum, Wavelengths};
+use crate::spectrum::{RelativeIor, Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture};
+pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
+use microfacet::{Distribution, Microfacet};
+pub use roughdielectric::RoughDielectric;
+pub use thindielectric::ThinDielectric;
 
 /// Most leaf lobes one material may combine (blends and masks of blends…).
 pub const MAX_LOBES: usize = 4;
@@ -49,6 +56,28 @@ pub enum Material {
         inner: Box<Material>,
         opacity: FloatTexture,
     },
+    // Dielectrics.
+    /// A smooth dielectric interface (Mitsuba's `dielectric`).
+    Dielectric {
+        ior: RelativeIor,
+        specular_reflectance: SpectralTexture,
+        specular_transmittance: SpectralTexture,
+    },
+    /// A rough dielectric interface (Mitsuba's `roughdielectric`).
+    RoughDielectric {
+        ior: RelativeIor,
+        distribution: Distribution,
+        alpha_u: FloatTexture,
+        alpha_v: FloatTexture,
+        specular_reflectance: SpectralTexture,
+        specular_transmittance: SpectralTexture,
+    },
+    /// An infinitely thin dielectric slab (Mitsuba's `thindielectric`).
+    ThinDielectric {
+        ior: RelativeIor,
+        specular_reflectance: SpectralTexture,
+        specular_transmittance: SpectralTexture,
+    },
 }
 
 /// One leaf BSDF at a hit, at the path's wavelengths.
@@ -57,6 +86,9 @@ pub enum Lobe<const N: usize> {
     Diffuse(Diffuse<N>),
     // Conductors.
     // Dielectrics.
+    Dielectric(Dielectric<N>),
+    RoughDielectric(RoughDielectric<N>),
+    ThinDielectric(ThinDielectric<N>),
     // Plastics.
     /// Passes light straight through, unchanged (the transparent part of a `mask`).
     Null,
@@ -146,6 +178,41 @@ impl Material {
                 Lobe::Null.push(weight * (1.0 - a), false, out);
                 return;
             }
+            // Dielectrics.
+            Material::Dielectric {
+                ior,
+                specular_reflectance,
+                specular_transmittance,
+            } => Lobe::Dielectric(Dielectric {
+                eta: ior.eta(wl),
+                reflectance: specular_reflectance.eval(si.uv, wl),
+                transmittance: specular_transmittance.eval(si.uv, wl),
+                dispersive: ior.dispersive(),
+            }),
+            Material::RoughDielectric {
+                ior,
+                distribution,
+                alpha_u,
+                alpha_v,
+                specular_reflectance,
+                specular_transmittance,
+            } => Lobe::RoughDielectric(RoughDielectric {
+                eta: ior.eta(wl),
+                reflectance: specular_reflectance.eval(si.uv, wl),
+                transmittance: specular_transmittance.eval(si.uv, wl),
+                dist: Microfacet::new(*distribution, alpha_u.eval(si.uv), alpha_v.eval(si.uv)),
+                dispersive: ior.dispersive(),
+            }),
+            Material::ThinDielectric {
+                ior,
+                specular_reflectance,
+                specular_transmittance,
+            } => Lobe::ThinDielectric(ThinDielectric {
+                eta: ior.eta(wl),
+                reflectance: specular_reflectance.eval(si.uv, wl),
+                transmittance: specular_transmittance.eval(si.uv, wl),
+                dispersive: ior.dispersive(),
+            }),
         };
         lobe.push(weight, flip, out);
     }
@@ -166,6 +233,8 @@ impl<const N: usize> Lobe<N> {
             Lobe::Diffuse(b) => b.eval(wi, wo),
             // Conductors.
             // Dielectrics.
+            Lobe::RoughDielectric(b) => b.eval(wi, wo),
+            Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => Spectrum::zero(),
             // Plastics.
             Lobe::Null => Spectrum::zero(),
         }
@@ -178,6 +247,8 @@ impl<const N: usize> Lobe<N> {
             Lobe::Diffuse(b) => b.pdf(wi, wo),
             // Conductors.
             // Dielectrics.
+            Lobe::RoughDielectric(b) => b.pdf(wi, wo),
+            Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => 0.0,
             // Plastics.
             Lobe::Null => 0.0,
         }
@@ -190,6 +261,8 @@ impl<const N: usize> Lobe<N> {
             Lobe::Diffuse(_) | Lobe::Null => Spectrum::splat(self.pdf(wi, wo)),
             // Conductors.
             // Dielectrics.
+            Lobe::RoughDielectric(b) => b.pdf_lanes(wi, wo),
+            Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => Spectrum::zero(),
             // Plastics.
         }
     }
@@ -200,6 +273,9 @@ impl<const N: usize> Lobe<N> {
             Lobe::Diffuse(b) => b.sample(wi, uc, u),
             // Conductors.
             // Dielectrics.
+            Lobe::Dielectric(b) => b.sample(wi, uc, u),
+            Lobe::RoughDielectric(b) => b.sample(wi, uc, u),
+            Lobe::ThinDielectric(b) => b.sample(wi, uc, u),
             // Plastics.
             Lobe::Null => Some(BsdfSample {
                 wo: -wi,
@@ -219,6 +295,8 @@ impl<const N: usize> Lobe<N> {
             Lobe::Diffuse(_) => true,
             // Conductors.
             // Dielectrics.
+            Lobe::RoughDielectric(_) => true,
+            Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => false,
             // Plastics.
             Lobe::Null => false,
         }
@@ -231,6 +309,9 @@ impl<const N: usize> Lobe<N> {
             Lobe::Diffuse(_) | Lobe::Null => false,
             // Conductors.
             // Dielectrics.
+            Lobe::Dielectric(b) => b.dispersive,
+            Lobe::RoughDielectric(b) => b.dispersive,
+            Lobe::ThinDielectric(b) => b.dispersive,
             // Plastics.
         }
     }

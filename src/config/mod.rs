@@ -11,16 +11,19 @@
 //! )
 //! ```
 
+pub mod ior;
 mod parse;
 pub mod spectrum;
 
 use crate::accel::AccelKind;
+use crate::bsdf::microfacet::Distribution;
 use crate::camera::FovAxis;
 use crate::filter::FilterConfig;
 use crate::integrator::{Dispersion, PathSettings};
 use crate::sampler::SamplerKind;
 use crate::spectrum::WavelengthSampling;
 use crate::texture::{TexFilter, Wrap};
+pub use ior::{IorConfig, IorForm};
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
 pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig};
@@ -219,7 +222,80 @@ pub enum MaterialConfig {
     },
     // Conductors.
     // Dielectrics.
+    /// A smooth interface between two dielectrics (Mitsuba's `dielectric`): glass, water.
+    /// `int_ior` default `"bk7"` (1.5046), `ext_ior` default `"air"` (1.000277), the exterior
+    /// being the side the normal points to; `specular_reflectance` and `specular_transmittance`
+    /// (default `Constant(1)`) scale the two lobes and should stay 1 for physical realism.
+    ///
+    /// ```ron
+    /// Dielectric(int_ior: Glass("SF11"), ext_ior: Named("air"))
+    /// ```
+    Dielectric {
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
+    /// A rough dielectric interface (Mitsuba's `roughdielectric`, Walter et al. 2007):
+    /// `distribution` `Beckmann` (default) or `Ggx`; `alpha` (default 0.1) or both `alpha_u` and
+    /// `alpha_v` (anisotropic); IORs and specular factors as `Dielectric`.
+    ///
+    /// ```ron
+    /// RoughDielectric(distribution: Ggx, alpha: 0.05, int_ior: Glass("BK7"))
+    /// ```
+    RoughDielectric {
+        #[serde(default)]
+        distribution: Distribution,
+        #[serde(default)]
+        alpha: Option<FloatConfig>,
+        #[serde(default)]
+        alpha_u: Option<FloatConfig>,
+        #[serde(default)]
+        alpha_v: Option<FloatConfig>,
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
+    /// An infinitely thin dielectric slab, e.g. a window pane modelled as one sheet
+    /// (Mitsuba's `thindielectric`): specular reflection, undeflected transmission. Parameters
+    /// as `Dielectric`.
+    ///
+    /// ```ron
+    /// ThinDielectric(int_ior: Named("bk7"))
+    /// ```
+    ThinDielectric {
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
     // Plastics.
+}
+
+// Dielectrics.
+fn bk7() -> IorConfig {
+    IorConfig::named("bk7")
+}
+
+fn air() -> IorConfig {
+    IorConfig::named("air")
+}
+
+fn unit() -> SpectrumConfig {
+    SpectrumConfig::Constant(1.0)
 }
 
 fn half_grey() -> SpectrumConfig {
