@@ -247,3 +247,117 @@ fn missing_scene_file() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/scene.ron"));
 }
+
+// Dielectrics.
+
+/// Bad indices of refraction and roughness: exit code 2, the file and the field named, and the
+/// valid names listed where a name was misspelt.
+#[test]
+fn bad_dielectric_parameters() {
+    let glass = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "ior name",
+        &glass("Dielectric(int_ior: Named(\"watter\"))"),
+        &[],
+        &[
+            "scene.ron",
+            "materials.\"grey\".int_ior",
+            "watter",
+            "water",
+            "diamond",
+        ],
+    );
+    assert_input_error(
+        "glass name",
+        &glass("RoughDielectric(int_ior: Glass(\"BK8\"))"),
+        &[],
+        &["materials.\"grey\".int_ior", "BK8", "N-BK7", "N-SF11"],
+    );
+    assert_input_error(
+        "ior zero",
+        &glass("Dielectric(ext_ior: 0)"),
+        &[],
+        &["materials.\"grey\".ext_ior", "> 0"],
+    );
+    assert_input_error(
+        "ior nan",
+        &glass("ThinDielectric(int_ior: NaN)"),
+        &[],
+        &["materials.\"grey\".int_ior", "finite"],
+    );
+    assert_input_error(
+        "ior negative cauchy",
+        &glass("Dielectric(int_ior: Cauchy(a: -1.5, b: 0.004))"),
+        &[],
+        &["materials.\"grey\".int_ior", "> 0"],
+    );
+    assert_input_error(
+        "ior table too short",
+        &glass("Dielectric(int_ior: Spectrum(Tabulated([(450, 1.52), (650, 1.51)])))"),
+        &[],
+        &["materials.\"grey\".int_ior", "cover"],
+    );
+    assert_input_error(
+        "ior sellmeier pole",
+        &glass("Dielectric(int_ior: Sellmeier(b: (1, 0, 0), c: (0.25, 0, 0)))"),
+        &[],
+        &["materials.\"grey\".int_ior", "pole"],
+    );
+    assert_input_error(
+        "ior rgb",
+        &glass("Dielectric(int_ior: Spectrum(Rgb(1, 1, 1)))"),
+        &[],
+        &["materials.\"grey\".int_ior", "RGB"],
+    );
+    assert_input_error(
+        "ior misspelt form",
+        &glass("Dielectric(int_ior: Glas(\"BK7\"))"),
+        &[],
+        &["scene.ron:", "index of refraction"],
+    );
+    assert_input_error(
+        "alpha negative",
+        &glass("RoughDielectric(alpha: -0.1)"),
+        &[],
+        &["materials.\"grey\".alpha", "≥ 0"],
+    );
+    assert_input_error(
+        "alpha both",
+        &glass("RoughDielectric(alpha: 0.1, alpha_u: 0.2, alpha_v: 0.1)"),
+        &[],
+        &["materials.\"grey\"", "alpha_u"],
+    );
+    assert_input_error(
+        "alpha half",
+        &glass("RoughDielectric(alpha_u: 0.2)"),
+        &[],
+        &["materials.\"grey\"", "both alpha_u and alpha_v"],
+    );
+    assert_input_error(
+        "index matched",
+        &glass("RoughDielectric(int_ior: 1.333, ext_ior: \"water\")"),
+        &[],
+        &["materials.\"grey\"", "differ"],
+    );
+}
+
+/// Every IOR form a scene may write renders (Mitsuba's string names included).
+#[test]
+fn dielectric_forms_render() {
+    for m in [
+        "Dielectric()",
+        "Dielectric(int_ior: \"water\", ext_ior: \"air\")",
+        "Dielectric(int_ior: Value(1.7), ext_ior: 1)",
+        "RoughDielectric(distribution: Ggx, alpha_u: 0.05, alpha_v: 0.2, int_ior: Glass(\"fused silica\"))",
+        "RoughDielectric(alpha: Checkerboard(value0: 0.05, value1: 0.3), int_ior: Sellmeier(b: (1.03961212, 0.231792344, 1.01046945), c: (0.00600069867, 0.0200179144, 103.560653)))",
+        "ThinDielectric(int_ior: Cauchy(a: 1.5046, b: 0.0042), specular_transmittance: Rgb(0.9, 0.8, 0.7))",
+        "Dielectric(int_ior: Spectrum(Tabulated([(300, 1.53), (900, 1.50)])))",
+    ] {
+        let (code, err, written) = run(
+            "forms",
+            &GOOD.replace("Diffuse(reflectance: Constant(0.5))", m),
+            &[],
+        );
+        assert!(code == 0 && written, "{m}: exit {code}\n{err}");
+    }
+}
