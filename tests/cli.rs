@@ -248,6 +248,65 @@ fn missing_scene_file() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/scene.ron"));
 }
 
+#[test]
+fn bad_conductors() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "unknown metal",
+        &with("Conductor(material: \"Unobtainium\")"),
+        &[],
+        &[
+            "materials.\"grey\".material",
+            "Unobtainium",
+            "Au",
+            "Pt",
+            "none",
+        ],
+    );
+    assert_input_error(
+        "alpha zero",
+        &with("RoughConductor(material: \"Au\", alpha: 0)"),
+        &[],
+        &["materials.\"grey\".alpha", "(0, 1]", "Conductor"],
+    );
+    assert_input_error(
+        "alpha negative",
+        &with("RoughConductor(alpha_u: 0.1, alpha_v: -0.2)"),
+        &[],
+        &["materials.\"grey\".alpha_v", "(0, 1]"],
+    );
+    assert_input_error(
+        "alpha nan",
+        &with("RoughConductor(alpha: NaN)"),
+        &[],
+        &["materials.\"grey\".alpha"],
+    );
+    assert_input_error(
+        "alpha_u alone",
+        &with("RoughConductor(alpha_u: 0.1)"),
+        &[],
+        &["materials.\"grey\"", "alpha_v"],
+    );
+    assert_input_error(
+        "negative eta",
+        &with("Conductor(eta: Tabulated([(400, 0.2), (700, -0.1)]), k: Constant(3))"),
+        &[],
+        &["materials.\"grey\".eta", "negative"],
+    );
+    assert_input_error(
+        "rgb k",
+        &with("RoughConductor(eta: Constant(0.2), k: Rgb(3, 2, 1))"),
+        &[],
+        &["materials.\"grey\".k", "RGB"],
+    );
+    assert_input_error(
+        "metal and eta",
+        &with("Conductor(material: \"Cu\", eta: Constant(1.5))"),
+        &[],
+        &["materials.\"grey\"", "not both"],
+    );
+}
+
 // Dielectrics.
 
 /// Bad indices of refraction and roughness: exit code 2, the file and the field named, and the
@@ -319,7 +378,7 @@ fn bad_dielectric_parameters() {
         "alpha negative",
         &glass("RoughDielectric(alpha: -0.1)"),
         &[],
-        &["materials.\"grey\".alpha", "≥ 0"],
+        &["materials.\"grey\".alpha", "(0, 1]", "Dielectric"],
     );
     assert_input_error(
         "alpha both",
@@ -331,7 +390,7 @@ fn bad_dielectric_parameters() {
         "alpha half",
         &glass("RoughDielectric(alpha_u: 0.2)"),
         &[],
-        &["materials.\"grey\"", "both alpha_u and alpha_v"],
+        &["materials.\"grey\"", "both `alpha_u` and `alpha_v`"],
     );
     assert_input_error(
         "index matched",
@@ -360,4 +419,67 @@ fn dielectric_forms_render() {
         );
         assert!(code == 0 && written, "{m}: exit {code}\n{err}");
     }
+}
+
+/// `prism export` writes a dielectric's indices as Mitsuba takes them: numbers when the
+/// interface is not dispersive; otherwise both sides as spectra (a tabulated glass, a
+/// constant air) and `"dispersive": true`. Tolerance: 1e-6 on n (JSON round trip of f32).
+#[test]
+fn export_writes_dielectric_iors() {
+    let dir = workdir("export");
+    let scene = dir.join("scene.ron");
+    let text = GOOD
+        .replace(
+            r#"materials: { "grey": Diffuse(reflectance: Constant(0.5)) }"#,
+            r#"materials: {
+                "a": Dielectric(int_ior: "water"),
+                "b": RoughDielectric(distribution: Ggx, alpha_u: 0.05, alpha_v: 0.2, int_ior: Glass("BK7")),
+                "c": ThinDielectric(int_ior: 1.6, ext_ior: 1.1),
+            }"#,
+        )
+        .replace(
+            r#"shapes: [(shape: Sphere(center: (0, 0, 4)), material: "grey")]"#,
+            r#"shapes: [
+                (shape: Sphere(center: (0, 0, 4)), material: "a"),
+                (shape: Sphere(center: (1, 0, 4)), material: "b"),
+                (shape: Sphere(center: (2, 0, 4)), material: "c"),
+            ]"#,
+        );
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("exported");
+    let o = prism()
+        .arg("export")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("scene.json")).unwrap()).unwrap();
+    let m = &json["materials"];
+    let close = |v: &serde_json::Value, x: f64| (v.as_f64().unwrap() - x).abs() < 1e-6;
+    assert_eq!(m[0]["type"], "dielectric");
+    assert!(close(&m[0]["int_ior"], 1.333) && close(&m[0]["ext_ior"], 1.000277));
+    assert_eq!(m[0]["dispersive"], false);
+    assert_eq!(m[0]["specular_transmittance"]["type"], "constant");
+    assert_eq!(m[1]["type"], "roughdielectric");
+    assert_eq!(m[1]["distribution"], "ggx");
+    assert!(close(&m[1]["alpha_u"]["value"], 0.05) && close(&m[1]["alpha_v"]["value"], 0.2));
+    assert_eq!(m[1]["dispersive"], true);
+    assert_eq!(m[1]["ext_ior"]["type"], "constant");
+    assert!(close(&m[1]["ext_ior"]["value"], 1.000277));
+    let (nm, n) = (&m[1]["int_ior"]["wavelengths"], &m[1]["int_ior"]["values"]);
+    assert_eq!(m[1]["int_ior"]["type"], "irregular");
+    // N-BK7 at the helium d line, 587.56 nm: the table's neighbours bracket n_d = 1.51680.
+    let i = nm
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|w| w.as_f64().unwrap() >= 587.5)
+        .unwrap();
+    let (lo, hi) = (n[i].as_f64().unwrap(), n[i - 1].as_f64().unwrap());
+    assert!(lo < 1.51680 && 1.51680 < hi + 1e-5, "{lo} {hi}");
+    assert_eq!(m[2]["type"], "thindielectric");
+    assert!(close(&m[2]["int_ior"], 1.6) && close(&m[2]["ext_ior"], 1.1));
 }

@@ -135,7 +135,7 @@ impl<const N: usize> RoughDielectric<N> {
         }
         let (v, p, _) = self.lanes(wi, wo);
         let pdf = p[0];
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let rt = if reflect {

@@ -96,8 +96,8 @@ mod tests {
         let wi = Vec3::new(0.0, 0.6, -0.8);
         let t = s.sample(wi, 0.99, Vec2::ZERO).unwrap();
         assert_eq!(t.wo, -wi);
-        for k in 0..4 {
-            let tk = 1.0 - slab_reflectance(0.8, eta[k]);
+        for (k, &e) in eta.iter().enumerate() {
+            let tk = 1.0 - slab_reflectance(0.8, e);
             assert!((t.pdf_lanes[k] - tk).abs() < 1e-6);
             assert!((t.weight[k] - tk / t.pdf).abs() < 1e-6);
         }

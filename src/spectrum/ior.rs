@@ -144,6 +144,23 @@ impl Ior {
         out
     }
 
+    /// Wavelength-value pairs describing n over [lo, hi] nm, or None for a constant: a curve's
+    /// own knots (Curve::tabulate), the analytic forms every 1 nm (Sellmeier and Cauchy indices
+    /// change by < 1e-4 per nm in the visible, so linear interpolation between the samples is
+    /// exact to ~1e-6).
+    pub fn tabulate(&self, lo: f32, hi: f32) -> Option<(Vec<f32>, Vec<f32>)> {
+        match self {
+            _ if self.is_constant() => None,
+            Ior::Curve(c) => c.tabulate(lo, hi),
+            _ => {
+                let n = (hi - lo).ceil() as usize;
+                let nm: Vec<f32> = (0..=n).map(|i| (lo + i as f32).min(hi)).collect();
+                let values = nm.iter().map(|&l| self.eval_one(l)).collect();
+                Some((nm, values))
+            }
+        }
+    }
+
     /// Abbe number V_d = (n_d − 1) / (n_F − n_C): low values disperse strongly.
     pub fn abbe_number(&self) -> f32 {
         (self.eval_one(LINE_D) - 1.0) / (self.eval_one(LINE_F) - self.eval_one(LINE_C))
