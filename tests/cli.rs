@@ -483,3 +483,40 @@ fn export_writes_dielectric_iors() {
     assert_eq!(m[2]["type"], "thindielectric");
     assert!(close(&m[2]["int_ior"], 1.6) && close(&m[2]["ext_ior"], 1.1));
 }
+
+/// Plastics take a dielectric's index forms (numbers, names) but, as in Mitsuba, only
+/// constant ones: a dispersive index is an input error naming the field.
+#[test]
+fn plastic_iors() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    for m in [
+        "Plastic(int_ior: \"bk7\")",
+        "RoughPlastic(int_ior: Named(\"acrylic glass\"), ext_ior: \"water\")",
+        "Plastic(int_ior: 1.6, ext_ior: Spectrum(Constant(1.0)))",
+    ] {
+        let (code, err, written) = run("plastic ior", &with(m), &[]);
+        assert!(code == 0 && written, "{m}: exit {code}\n{err}");
+    }
+    assert_input_error(
+        "dispersive plastic",
+        &with("RoughPlastic(int_ior: Glass(\"SF11\"))"),
+        &[],
+        &[
+            "materials.\"grey\".int_ior",
+            "varies with wavelength",
+            "Dielectric",
+        ],
+    );
+    assert_input_error(
+        "cauchy plastic",
+        &with("Plastic(ext_ior: Cauchy(a: 1.3, b: 0.003))"),
+        &[],
+        &["materials.\"grey\".ext_ior", "one number"],
+    );
+    assert_input_error(
+        "unknown plastic ior",
+        &with("Plastic(int_ior: \"polypropylen\")"),
+        &[],
+        &["materials.\"grey\".int_ior", "polypropylene"],
+    );
+}

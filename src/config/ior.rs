@@ -6,7 +6,8 @@ use crate::error::InputError;
 use crate::spectrum::Ior;
 use serde::{Deserialize, Serialize};
 
-/// An index of refraction in a scene file (dielectrics' `int_ior` and `ext_ior`).
+/// An index of refraction in a scene file (the `int_ior` and `ext_ior` of dielectrics, and of
+/// plastics, which take constant ones only).
 ///
 /// ```ron
 /// 1.5                                   // a number

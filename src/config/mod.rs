@@ -320,17 +320,18 @@ pub enum MaterialConfig {
     },
     // Plastics.
     /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
-    /// Defaults: diffuse_reflectance 0.5, specular_reflectance 1, int_ior 1.49
-    /// (polypropylene), ext_ior 1.000277 (air), nonlinear false.
+    /// Defaults: diffuse_reflectance 0.5, specular_reflectance 1, int_ior `"polypropylene"`
+    /// (1.49), ext_ior `"air"` (1.000277), nonlinear false. The indices are written as a
+    /// dielectric's (a number or a name) but must not vary with wavelength, as in Mitsuba.
     Plastic {
         #[serde(default = "half_grey")]
         diffuse_reflectance: SpectrumConfig,
         #[serde(default = "one_spectrum")]
         specular_reflectance: SpectrumConfig,
         #[serde(default = "polypropylene")]
-        int_ior: f32,
-        #[serde(default = "air_index")]
-        ext_ior: f32,
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
         #[serde(default)]
         nonlinear: bool,
     },
@@ -346,9 +347,9 @@ pub enum MaterialConfig {
         #[serde(default = "one_spectrum")]
         specular_reflectance: SpectrumConfig,
         #[serde(default = "polypropylene")]
-        int_ior: f32,
-        #[serde(default = "air_index")]
-        ext_ior: f32,
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
         #[serde(default)]
         nonlinear: bool,
     },
@@ -358,12 +359,8 @@ fn one_spectrum() -> SpectrumConfig {
     SpectrumConfig::Constant(1.0)
 }
 
-fn polypropylene() -> f32 {
-    1.49
-}
-
-fn air_index() -> f32 {
-    1.000_277
+fn polypropylene() -> IorConfig {
+    IorConfig::named("polypropylene")
 }
 
 fn point_one() -> f32 {

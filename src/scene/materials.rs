@@ -197,7 +197,7 @@ fn build(
             ext_ior,
             nonlinear,
         } => {
-            let eta = plastic_eta(*int_ior, *ext_ior, field, file)?;
+            let eta = plastic_eta(int_ior, ext_ior, field, file, range)?;
             let diffuse = diffuse_reflectance.resolve_texture(
                 Role::Reflectance,
                 &spectrum_ctx(file, &ctx("diffuse_reflectance"), range),
@@ -226,7 +226,7 @@ fn build(
             ext_ior,
             nonlinear,
         } => {
-            let eta = plastic_eta(*int_ior, *ext_ior, field, file)?;
+            let eta = plastic_eta(int_ior, ext_ior, field, file, range)?;
             check_alpha(*alpha, &ctx("alpha"), file)?;
             let microfacet = Microfacet::new(*distribution, *alpha, *alpha);
             let diffuse = diffuse_reflectance.resolve_texture(
@@ -472,17 +472,30 @@ fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, Inpu
     })
 }
 
-/// η = int / ext, both positive and finite.
-fn plastic_eta(int: f32, ext: f32, field: &str, file: &Path) -> Result<f32, InputError> {
-    for (v, name) in [(int, "int_ior"), (ext, "ext_ior")] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(
-                InputError::new(file, format!("{name} {v} must be a positive number"))
-                    .field(format!("{field}.{name}")),
-            );
+// Plastics.
+/// A plastic's relative index η = int / ext. Mitsuba's plastics take scalar indices, so a
+/// dispersive one (a glass, Sellmeier, Cauchy, a varying table) is refused.
+fn plastic_eta(
+    int: &IorConfig,
+    ext: &IorConfig,
+    field: &str,
+    file: &Path,
+    range: (f32, f32),
+) -> Result<f32, InputError> {
+    let one = |c: &IorConfig, name: &str| {
+        let sub = format!("{field}.{name}");
+        let ior = c.resolve(&spectrum_ctx(file, &sub, range))?;
+        if !ior.is_constant() {
+            return Err(InputError::new(
+                file,
+                format!("a plastic's {name} must be one number, but this index varies with wavelength"),
+            )
+            .field(sub)
+            .hint("plastics (as Mitsuba's) take a constant index: write a number (1.5) or a name (\"bk7\", \"polypropylene\"); for dispersion use Dielectric or RoughDielectric"));
         }
-    }
-    Ok(int / ext)
+        Ok(ior.eval_one(0.5 * (range.0 + range.1)))
+    };
+    Ok(one(int, "int_ior")? / one(ext, "ext_ior")?)
 }
 
 /// Microfacet roughness: Mitsuba accepts any positive value; above 1 the models leave their
