@@ -133,9 +133,9 @@ pub fn chi2_binned(name: &str, m: &Material, wi: Vec3, pole: Vec3, sub: usize) {
     // would land in the Dirac cell, which such a lobe never fills.
     // With a tilted pole the surface plane, where a pdf jumps from reflection to transmission,
     // cuts cells obliquely; quadrature converges only linearly across a jump, so those cells
-    // (the nodes lie on both sides) are integrated again on 8× finer nodes.
+    // (the nodes lie on both sides) are integrated again on 4× finer nodes.
     let nodes = gauss_legendre(sub);
-    let fine = gauss_legendre(8 * sub);
+    let fine = gauss_legendre(4 * sub);
     let cell = |it: usize, ip: usize, nodes: &[(f64, f64)]| {
         let (mut sum, mut above, mut below) = (0.0, false, false);
         for &(xa, wa) in nodes {
