@@ -58,6 +58,10 @@ pub struct RenderArgs {
     /// Worker threads. Default: one per core.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Opt-in firefly clamp: cut each sample's radiance to at most this (overrides the
+    /// scene's integrator.clamp). Biased: for previews, never for ground truth.
+    #[arg(long)]
+    pub clamp: Option<f32>,
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -100,6 +104,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if let Some(seed) = args.seed {
             cfg.sampler.seed = seed;
+        }
+        if args.clamp.is_some() {
+            cfg.integrator.clamp = args.clamp;
         }
     })?;
     let load_s = t_load.elapsed().as_secs_f64();
