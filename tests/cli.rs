@@ -247,3 +247,152 @@ fn missing_scene_file() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/scene.ron"));
 }
+
+/// `GOOD` with its emitter replaced.
+fn with_emitter(emitter: &str) -> String {
+    GOOD.replace(r#"Constant(radiance: Named("D65"))"#, emitter)
+}
+
+#[test]
+fn missing_or_unreadable_envmap_image() {
+    assert_input_error(
+        "envmap missing",
+        &with_emitter(r#"Envmap(filename: "nope/sky.exr")"#),
+        &[],
+        &[
+            "scene.ron",
+            "emitters[0].filename",
+            "nope/sky.exr",
+            "does not exist",
+        ],
+    );
+    let dir = workdir("envmap-garbage");
+    std::fs::write(dir.join("sky.exr"), "not an image").unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(&scene, with_emitter(r#"Envmap(filename: "sky.exr")"#)).unwrap();
+    let o = prism()
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(dir.join("x.exr"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("scene.ron")
+            && err.contains("emitters[0].filename")
+            && err.contains("sky.exr"),
+        "{err}"
+    );
+    assert!(!dir.join("x.exr").exists());
+}
+
+#[test]
+fn bad_spot_parameters() {
+    let spot = |params: &str| with_emitter(&format!("Spot({params})"));
+    for (name, params, needles) in [
+        (
+            "cutoff 0",
+            "cutoff_angle: 0",
+            &["emitters[0].cutoff_angle", "(0, 90]"][..],
+        ),
+        (
+            "cutoff 120",
+            "cutoff_angle: 120",
+            &["emitters[0].cutoff_angle"][..],
+        ),
+        (
+            "cutoff nan",
+            "cutoff_angle: NaN",
+            &["emitters[0].cutoff_angle"][..],
+        ),
+        (
+            "beam wider",
+            "cutoff_angle: 20, beam_width: 25",
+            &["emitters[0].beam_width", "cutoff_angle"][..],
+        ),
+        (
+            "beam negative",
+            "beam_width: -1",
+            &["emitters[0].beam_width"][..],
+        ),
+        (
+            "intensity negative",
+            "intensity: Constant(-2)",
+            &["emitters[0].intensity", "negative"][..],
+        ),
+    ] {
+        assert_input_error(name, &spot(params), &[], needles);
+    }
+}
+
+#[test]
+fn bad_directional_and_envmap_parameters() {
+    assert_input_error(
+        "zero direction",
+        &with_emitter("Directional(direction: (0, 0, 0))"),
+        &[],
+        &["emitters[0].direction", "non-zero"],
+    );
+    assert_input_error(
+        "direction and to_world",
+        &with_emitter(
+            "Directional(direction: (0, -1, 0), to_world: [Rotate(axis: (1, 0, 0), angle: 90)])",
+        ),
+        &[],
+        &["emitters[0]", "not both"],
+    );
+    assert_input_error(
+        "irradiance nan",
+        &with_emitter("Directional(irradiance: Constant(NaN))"),
+        &[],
+        &["emitters[0].irradiance", "finite"],
+    );
+    assert_input_error(
+        "envmap scale",
+        &with_emitter(r#"Envmap(filename: "sky.exr", scale: -1)"#),
+        &[],
+        &["emitters[0].scale", "≥ 0"],
+    );
+    assert_input_error(
+        "envmap scaled",
+        &with_emitter(r#"Envmap(filename: "sky.exr", to_world: [Scale((2, 1, 1))])"#),
+        &[],
+        &["emitters[0].to_world", "rotate"],
+    );
+}
+
+#[test]
+fn envmap_must_be_equirectangular() {
+    for (name, w, h, needles) in [
+        (
+            "envmap 16x12",
+            16,
+            12,
+            &["16×12", "equirectangular", "twice as wide as high"][..],
+        ),
+        ("envmap 4x2", 4, 2, &["4×2", "at least 6×3"][..]),
+    ] {
+        let dir = workdir(&name.replace(' ', "-"));
+        exr::prelude::write_rgb_file(dir.join("sky.exr"), w, h, |_, _| (1.0f32, 1.0, 1.0)).unwrap();
+        let scene = dir.join("scene.ron");
+        std::fs::write(&scene, with_emitter(r#"Envmap(filename: "sky.exr")"#)).unwrap();
+        let o = prism()
+            .arg("render")
+            .arg(&scene)
+            .arg("-o")
+            .arg(dir.join("x.exr"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(!dir.join("x.exr").exists(), "{name}");
+        for n in ["scene.ron", "emitters[0].filename", "sky.exr"]
+            .iter()
+            .chain(needles)
+        {
+            assert!(err.contains(n), "{name}: stderr lacks `{n}`:\n{err}");
+        }
+    }
+}
