@@ -377,9 +377,8 @@ pub enum EmitterConfig {
     },
     /// An environment map (Mitsuba's `envmap`): `Envmap(filename: "textures/sky.exr", scale: 2)`.
     /// A latitude-longitude image, twice as wide as high (OpenEXR, Radiance HDR or PNG; relative
-    /// to the scene file) of
-    /// linear RGB radiance, +y up, uplifted per texel as an illuminant; times `scale` (default 1);
-    /// `to_world` may rotate it.
+    /// to the scene file) of linear RGB radiance, +y up, uplifted per texel as an illuminant;
+    /// times `scale` (default 1); `to_world` may rotate it.
     Envmap {
         filename: String,
         #[serde(default = "one")]
