@@ -93,6 +93,14 @@ impl Camera {
         }
     }
 
+    pub fn near_clip(&self) -> f32 {
+        self.near_clip
+    }
+
+    pub fn far_clip(&self) -> f32 {
+        self.far_clip
+    }
+
     /// Camera position in world space.
     pub fn position(&self) -> Vec3 {
         self.to_world.point(Vec3::ZERO)

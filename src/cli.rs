@@ -28,6 +28,18 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene file to a multi-channel OpenEXR.
     Render(RenderArgs),
+    /// Write the fully resolved scene (every default filled in, every spectrum tabulated, meshes
+    /// as world-space PLY) as JSON, for other tools such as the Mitsuba 3 comparison.
+    Export(ExportArgs),
+}
+
+#[derive(clap::Args, Debug)]
+pub struct ExportArgs {
+    /// The scene file (RON).
+    pub scene: PathBuf,
+    /// Output directory: receives scene.json and meshes/.
+    #[arg(short, long)]
+    pub output: PathBuf,
 }
 
 #[derive(clap::Args, Debug)]
@@ -62,6 +74,8 @@ pub fn main() -> i32 {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render(&args),
+        Command::Export(args) => crate::scene::load(&args.scene, |_| {})
+            .and_then(|job| crate::export::export(&job, &args.scene, &args.output)),
     };
     match result {
         Ok(()) => 0,

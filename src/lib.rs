@@ -10,6 +10,7 @@ pub mod cli;
 pub mod config;
 pub mod emitter;
 pub mod error;
+pub mod export;
 pub mod film;
 pub mod filter;
 pub mod integrator;

@@ -49,6 +49,16 @@ pub struct Grid<T> {
     pub wrap: Wrap,
     pub filter: TexFilter,
     pub map: UvMap,
+    /// The image file it came from (for exporting the scene to other renderers).
+    pub source: Option<ImageSource>,
+}
+
+/// Where an image came from and how it was read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageSource {
+    pub path: std::path::PathBuf,
+    /// 8-bit values taken as they are (not sRGB-decoded).
+    pub raw: bool,
 }
 
 impl<T: Copy> Grid<T> {
@@ -135,6 +145,32 @@ impl SpectralTexture {
         }
     }
 
+    /// The mean value over the surface and over [lo, hi] nm (steers sampling between lobes;
+    /// bitmaps are averaged over at most ~4096 evenly spread texels).
+    pub fn mean(&self, lo: f32, hi: f32) -> f32 {
+        match self {
+            SpectralTexture::Uniform(c) => c.average(lo, hi),
+            SpectralTexture::Checkerboard { color0, color1, .. } => {
+                0.5 * (color0.average(lo, hi) + color1.average(lo, hi))
+            }
+            SpectralTexture::Bitmap(g) => {
+                let step = (g.texels.len() / 4096).max(1);
+                let picked: Vec<&Sigmoid> = g.texels.iter().step_by(step).collect();
+                let n = 16;
+                let sum: f32 = picked
+                    .iter()
+                    .map(|s| {
+                        (0..n)
+                            .map(|i| s.eval(lo + (i as f32 + 0.5) * (hi - lo) / n as f32))
+                            .sum::<f32>()
+                            / n as f32
+                    })
+                    .sum();
+                sum / picked.len() as f32
+            }
+        }
+    }
+
     /// The largest value the texture takes at any point and wavelength in [lo, hi] (for checks).
     pub fn max_value(&self, lo: f32, hi: f32) -> f32 {
         match self {
@@ -192,6 +228,7 @@ pub struct RgbImage {
     pub width: usize,
     pub height: usize,
     pub pixels: Vec<[f32; 3]>,
+    pub source: Option<ImageSource>,
 }
 
 /// Reads a PNG/JPEG (8/16-bit; sRGB-decoded unless `raw`), OpenEXR (linear) or Radiance HDR
@@ -218,10 +255,15 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
         .map_err(|e| format!("`{name}`: cannot read OpenEXR: {e}"))?;
         let (width, pixels) = img.layer_data.channel_data.pixels;
         let height = pixels.len().checked_div(width).unwrap_or(0);
+        let source = Some(ImageSource {
+            path: path.to_path_buf(),
+            raw,
+        });
         return Ok(RgbImage {
             width,
             height,
             pixels,
+            source,
         });
     }
     let img = image::open(path).map_err(|e| format!("`{name}`: cannot read image: {e}"))?;
@@ -233,10 +275,15 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
         .pixels()
         .map(|p| [decode(p[0]), decode(p[1]), decode(p[2])])
         .collect();
+    let source = Some(ImageSource {
+        path: path.to_path_buf(),
+        raw,
+    });
     Ok(RgbImage {
         width,
         height,
         pixels,
+        source,
     })
 }
 
@@ -265,6 +312,7 @@ impl RgbImage {
             wrap,
             filter,
             map,
+            source: self.source.clone(),
         }
     }
 
@@ -282,6 +330,7 @@ impl RgbImage {
             wrap,
             filter,
             map,
+            source: self.source.clone(),
         }
     }
 }
@@ -305,6 +354,7 @@ mod tests {
         assert_eq!(t.eval(Vec2::new(0.75, 0.25)), 0.0);
         assert_eq!(t.eval(Vec2::new(1.75, 0.75)), 1.0);
         let g = Grid {
+            source: None,
             width: 2,
             height: 1,
             texels: vec![0.0f32, 1.0],
@@ -323,5 +373,65 @@ mod tests {
             ..g
         }));
         assert!((clamp.eval(Vec2::new(1.0, 0.5)) - 1.0).abs() < 1e-6);
+    }
+}
+
+#[cfg(test)]
+mod bitmap_tests {
+    use super::*;
+    use crate::spectrum::{WavelengthSampler, WavelengthSampling};
+
+    /// A 2×1 PNG (sRGB 8-bit) read back: values are sRGB-decoded (or not, when `raw`), and the
+    /// uplifted spectra reproduce the texels' luminance under D65 within 1e-3 (the uplifting
+    /// table's accuracy).
+    #[test]
+    fn png_round_trip() {
+        let dir = std::env::temp_dir().join(format!("prism-tex-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.png");
+        let img = image::RgbImage::from_raw(2, 1, vec![255, 128, 0, 10, 200, 30]).unwrap();
+        img.save(&path).unwrap();
+        let rgb = load_rgb(&path, false).unwrap();
+        assert_eq!((rgb.width, rgb.height), (2, 1));
+        assert!((rgb.pixels[0][1] - srgb_decode(128.0 / 255.0)).abs() < 1e-6);
+        let raw = load_rgb(&path, true).unwrap();
+        assert!((raw.pixels[0][1] - 128.0 / 255.0).abs() < 1e-6);
+        let map = UvMap {
+            scale: Vec2::ONE,
+            offset: Vec2::ZERO,
+        };
+        let tex = SpectralTexture::Bitmap(Box::new(rgb.to_reflectance(
+            Wrap::Clamp,
+            TexFilter::Nearest,
+            map,
+        )));
+        let cmf = crate::spectrum::color::cie1931();
+        let d65 = crate::spectrum::data::named_illuminant("D65").unwrap();
+        let ws = WavelengthSampler::new(WavelengthSampling::Uniform, 360.0, 830.0);
+        for (texel, u) in [(0usize, 0.25f32), (1, 0.75)] {
+            // The reflectance's luminance under D65 is the texel's sRGB Y.
+            let (mut y, mut norm) = (0.0f64, 0.0f64);
+            for i in 0..2000 {
+                let wl = ws.sample::<1>((i as f32 + 0.5) / 2000.0);
+                let l = wl.lambda[0];
+                let w = cmf.eval(l)[1] as f64 * d65.eval_one(l) as f64;
+                y += tex.eval(Vec2::new(u, 0.5), &wl)[0] as f64 * w;
+                norm += w;
+            }
+            let p = rgb.pixels[texel];
+            let y_srgb = 0.212_672_9 * p[0] + 0.715_152_2 * p[1] + 0.072_175 * p[2];
+            assert!(
+                (y / norm - y_srgb as f64).abs() < 1e-3,
+                "texel {texel}: {} vs {y_srgb}",
+                y / norm
+            );
+        }
+        assert!(load_rgb(&dir.join("missing.png"), false)
+            .unwrap_err()
+            .contains("does not exist"));
+        std::fs::write(dir.join("bad.png"), b"not a png").unwrap();
+        assert!(load_rgb(&dir.join("bad.png"), false)
+            .unwrap_err()
+            .contains("cannot read image"));
     }
 }

@@ -396,3 +396,166 @@ fn envmap_must_be_equirectangular() {
         }
     }
 }
+
+#[test]
+fn bad_conductors() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "unknown metal",
+        &with("Conductor(material: \"Unobtainium\")"),
+        &[],
+        &[
+            "materials.\"grey\".material",
+            "Unobtainium",
+            "Au",
+            "Pt",
+            "none",
+        ],
+    );
+    assert_input_error(
+        "alpha zero",
+        &with("RoughConductor(material: \"Au\", alpha: 0)"),
+        &[],
+        &["materials.\"grey\".alpha", "(0, 1]", "Conductor"],
+    );
+    assert_input_error(
+        "alpha negative",
+        &with("RoughConductor(alpha_u: 0.1, alpha_v: -0.2)"),
+        &[],
+        &["materials.\"grey\".alpha_v", "(0, 1]"],
+    );
+    assert_input_error(
+        "alpha nan",
+        &with("RoughConductor(alpha: NaN)"),
+        &[],
+        &["materials.\"grey\".alpha"],
+    );
+    assert_input_error(
+        "alpha_u alone",
+        &with("RoughConductor(alpha_u: 0.1)"),
+        &[],
+        &["materials.\"grey\"", "alpha_v"],
+    );
+    assert_input_error(
+        "negative eta",
+        &with("Conductor(eta: Tabulated([(400, 0.2), (700, -0.1)]), k: Constant(3))"),
+        &[],
+        &["materials.\"grey\".eta", "negative"],
+    );
+    assert_input_error(
+        "rgb k",
+        &with("RoughConductor(eta: Constant(0.2), k: Rgb(3, 2, 1))"),
+        &[],
+        &["materials.\"grey\".k", "RGB"],
+    );
+    assert_input_error(
+        "metal and eta",
+        &with("Conductor(material: \"Cu\", eta: Constant(1.5))"),
+        &[],
+        &["materials.\"grey\"", "not both"],
+    );
+}
+
+#[test]
+fn unreadable_textures() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "missing texture",
+        &with("Diffuse(reflectance: Bitmap(path: \"textures/nope.png\"))"),
+        &[],
+        &["materials.\"grey\".reflectance", "nope.png"],
+    );
+    let dir = workdir("corrupt-texture-data");
+    let bad = dir.join("corrupt.png");
+    std::fs::write(&bad, b"\x89PNG\r\n\x1a\nthis is not a PNG").unwrap();
+    assert_input_error(
+        "corrupt texture",
+        &with(&format!(
+            "Diffuse(reflectance: Bitmap(path: {:?}))",
+            bad.to_str().unwrap()
+        )),
+        &[],
+        &["materials.\"grey\".reflectance", "corrupt.png"],
+    );
+    assert_input_error(
+        "corrupt opacity texture",
+        &with(&format!(
+            "Mask(opacity: Bitmap(path: {:?}), bsdf: Diffuse())",
+            bad.to_str().unwrap()
+        )),
+        &[],
+        &["materials.\"grey\".opacity", "corrupt.png"],
+    );
+}
+
+/// `prism export` writes spot, directional and envmap emitters with Mitsuba 3's parameter names,
+/// defaults resolved, the map's absolute path and 4×4 row-major matrices.
+#[test]
+fn export_writes_spot_directional_and_envmap() {
+    let dir = workdir("export-emitters");
+    exr::prelude::write_rgb_file(dir.join("sky.exr"), 8, 4, |_, _| (1.0f32, 1.0, 1.0)).unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(
+        &scene,
+        GOOD.replace(
+            r#"emitters: [Constant(radiance: Named("D65"))]"#,
+            r#"emitters: [
+                Spot(to_world: [Translate((1, 2, 3))]),
+                Directional(irradiance: Constant(2), direction: (0, 0, -2)),
+                Envmap(filename: "sky.exr", scale: 0.5, to_world: [Rotate(axis: (0, 1, 0), angle: 90)]),
+            ]"#,
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = prism()
+        .arg("export")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("scene.json")).unwrap()).unwrap();
+    let e = &json["emitters"];
+    let close = |v: &serde_json::Value, want: &[f64]| {
+        let got: Vec<f64> = v
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|r| match r.as_array() {
+                Some(row) => row.iter().map(|x| x.as_f64().unwrap()).collect(),
+                None => vec![r.as_f64().unwrap()],
+            })
+            .collect();
+        assert_eq!(got.len(), want.len());
+        assert!(
+            got.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-6),
+            "{got:?} vs {want:?}"
+        );
+    };
+    // The spot: Mitsuba's defaults, cutoff 20° and beam ¾ of it; intensity D65 tabulated.
+    assert_eq!(e[0]["type"], "spot");
+    assert_eq!(e[0]["cutoff_angle"], 20.0);
+    assert_eq!(e[0]["beam_width"], 15.0);
+    assert_eq!(e[0]["intensity"]["type"], "irregular");
+    #[rustfmt::skip]
+    close(&e[0]["to_world"], &[1., 0., 0., 1., 0., 1., 0., 2., 0., 0., 1., 3., 0., 0., 0., 1.]);
+    assert_eq!(e[1]["type"], "directional");
+    close(&e[1]["direction"], &[0.0, 0.0, -1.0]);
+    assert_eq!(e[1]["irradiance"]["value"], 2.0);
+    assert_eq!(e[2]["type"], "envmap");
+    assert_eq!(
+        e[2]["filename"].as_str().unwrap(),
+        dir.join("sky.exr")
+            .canonicalize()
+            .unwrap()
+            .to_str()
+            .unwrap()
+    );
+    assert_eq!(e[2]["scale"], 0.5);
+    // A 90° turn about +y: x → −z, z → x.
+    #[rustfmt::skip]
+    close(&e[2]["to_world"], &[0., 0., 1., 0., 0., 1., 0., 0., -1., 0., 0., 0., 0., 0., 0., 1.]);
+}

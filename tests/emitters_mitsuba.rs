@@ -90,6 +90,7 @@ fn envmap_orientation_and_interpolation_match_mitsuba() {
         width: 16,
         height: 8,
         pixels: vec![[1.0; 3]; 16 * 8],
+        source: None,
     };
     let rot = Mat3::from_axis_angle(
         Vec3::new(axis[0] as f32, axis[1] as f32, axis[2] as f32).normalize(),

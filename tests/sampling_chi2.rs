@@ -414,7 +414,7 @@ fn gaussian_filter_importance_sampling() {
     assert_pass("gaussian filter", chi2_test(&obs, &exp));
 }
 
-/// A 64×33 sky: a gradient from a bright horizon to a deeper zenith, a dim ground, and a sun
+/// A 64×33 sky (any size suits `EnvMap` itself; scene files must be 2:1): a gradient from a bright horizon to a deeper zenith, a dim ground, and a sun
 /// (a Gaussian blob 30× the sky, σ ≈ 4°) at 40° elevation; in the map's own frame (+y up).
 fn sky_image() -> RgbImage {
     let (w, h) = (64, 33);
@@ -447,6 +447,7 @@ fn sky_image() -> RgbImage {
         width: w,
         height: h,
         pixels,
+        source: None,
     }
 }
 

@@ -1,10 +1,16 @@
 """Regenerate prism's spectral data files (`spectra/`) from colour-science.
 
-Run: `tools/.venv/bin/python tools/export_spectra.py` (needs colour-science 0.4.7; mitsuba 3.9.1 only
-for the 785-830 nm tail of CIE D65, which colour-science truncates at 780 nm).
+Run: `tools/.venv/bin/python tools/export_spectra.py` (needs colour-science 0.4.7; mitsuba 3.9.1 for
+the 785-830 nm tail of CIE D65, which colour-science truncates at 780 nm, and for the measured
+metal indices of refraction in its `data/ior/` folder).
 
 Every file is plain text: `#` comment lines (source, units), one header line naming the columns,
 then one row per wavelength in nm. prism embeds these files at build time.
+
+Not generated here: `spectra/metals/Ti.txt`, `Fe.txt` and `Pt.txt` were transcribed by hand from
+the refractiveindex.info database (CC0; Johnson & Christy 1974 for Ti and Fe, Rakic et al. 1998
+for Pt), with wavelengths converted from um to nm; each file names its source. This script leaves
+them alone.
 """
 
 from __future__ import annotations
@@ -113,6 +119,73 @@ def export_illuminants() -> None:
         )
 
 
+# prism's name -> the stem of Mitsuba's `<stem>.eta.spd` / `<stem>.k.spd`. Only elemental metals
+# whose data cover at least 360-830 nm (the CIE range); Ni and V exist only as Palik's data there.
+MITSUBA_METALS = {
+    "Ag": "Ag",
+    "Al": "Al",
+    "Au": "Au",
+    "Be": "Be",
+    "Cr": "Cr",
+    "Cu": "Cu",
+    "Hg": "Hg",
+    "Ir": "Ir",
+    "Mo": "Mo",
+    "Nb": "Nb",
+    "Ni": "Ni_palik",
+    "Rh": "Rh",
+    "Ta": "Ta",
+    "V": "V_palik",
+    "W": "W",
+}
+
+
+def read_spd(path: pathlib.Path) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """A Mitsuba `.spd` file: its comment lines (without the `#` and LuxPop's `;`) and its columns
+    (wavelength in nm, value)."""
+    notes, rows = [], []
+    for line in path.read_text().splitlines():
+        line = line.strip()
+        if line.startswith("#"):
+            note = line.lstrip("#").strip().lstrip(";").strip()
+            if note and not note.startswith("-") and not note.startswith("Lambda"):
+                notes.append(note)
+        elif line:
+            rows.append([float(x) for x in line.split()])
+    data = np.array(rows)
+    return notes, data[:, 0], data[:, 1]
+
+
+def merge_eta_k(eta: tuple[np.ndarray, np.ndarray], k: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """eta and k on one grid: the union of both grids where both are measured, each column
+    linearly interpolated onto it (Mitsuba's pairs share one grid, so nothing is interpolated)."""
+    lo, hi = max(eta[0][0], k[0][0]), min(eta[0][-1], k[0][-1])
+    wl = np.union1d(eta[0], k[0])
+    wl = wl[(wl >= lo) & (wl <= hi)]
+    return wl, np.stack([np.interp(wl, *eta), np.interp(wl, *k)], axis=1)
+
+
+def export_metals() -> None:
+    import mitsuba as mi  # only for the location of its measured data
+
+    ior = pathlib.Path(mi.__file__).parent / "data" / "ior"
+    for name, stem in MITSUBA_METALS.items():
+        notes, *eta = read_spd(ior / f"{stem}.eta.spd")
+        _, *k = read_spd(ior / f"{stem}.k.spd")
+        wl, values = merge_eta_k(tuple(eta), tuple(k))
+        write(
+            ROOT / "metals" / f"{name}.txt",
+            f"{name}: complex index of refraction eta + i k (relative to vacuum), measured.\n"
+            f"Source: Mitsuba {mi.__version__} data/ior/{stem}.eta.spd and {stem}.k.spd, whose header says:\n"
+            + "".join(f"  {n}\n" for n in notes)
+            + "Units: wavelength nm; eta, k dimensionless.",
+            ["eta", "k"],
+            wl,
+            values,
+        )
+
+
 if __name__ == "__main__":
     export_cmfs()
     export_illuminants()
+    export_metals()

@@ -15,15 +15,25 @@
 //! lane's BSDF would have produced the same direction (`pdf_lanes`); the integrator weights the
 //! lanes by spectral MIS with them (Wilkie et al. 2014).
 
+mod conductor;
 mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
+mod plastic;
+mod roughconductor;
+pub mod roughplastic;
 
 use crate::interaction::SurfaceInteraction;
 use crate::spectrum::{Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture};
+pub use conductor::{Conductor, ConductorParams};
 pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
+
+use microfacet::{Distribution, Microfacet};
+pub use plastic::Plastic;
+pub use roughconductor::RoughConductor;
+pub use roughplastic::RoughPlastic;
 
 /// Most leaf lobes one material may combine (blends and masks of blends…).
 pub const MAX_LOBES: usize = 4;
@@ -49,15 +59,66 @@ pub enum Material {
         inner: Box<Material>,
         opacity: FloatTexture,
     },
+    // Conductors.
+    /// Mirror reflection with a conductor's Fresnel reflectance (Mitsuba's `conductor`).
+    Conductor(ConductorParams),
+    /// Microfacet reflection from a conductor (Mitsuba's `roughconductor`); the roughnesses
+    /// along the tangent and bitangent may vary over the surface.
+    RoughConductor {
+        params: ConductorParams,
+        distribution: Distribution,
+        alpha_u: FloatTexture,
+        alpha_v: FloatTexture,
+    },
+    // Dielectrics.
+    // Plastics.
+    /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
+    Plastic {
+        diffuse: SpectralTexture,
+        specular: SpectralTexture,
+        eta: f32,
+        /// Hemispherical average of the internal Fresnel reflectance.
+        internal: f32,
+        nonlinear: bool,
+        specular_weight: f32,
+    },
+    /// A rough coating over a diffuse base (Mitsuba's `roughplastic`).
+    RoughPlastic {
+        diffuse: SpectralTexture,
+        specular: SpectralTexture,
+        eta: f32,
+        microfacet: Microfacet,
+        transmittance: Box<roughplastic::TransmittanceTable>,
+        internal: f32,
+        nonlinear: bool,
+        specular_weight: f32,
+    },
+}
+
+/// ρ' = ρ / (1 − F_dr), or ρ / (1 − ρ F_dr) with `nonlinear`: the diffuse base with the light
+/// that bounces between it and the coating's underside folded in.
+#[inline]
+fn fold_internal<const N: usize>(rho: Spectrum<N>, internal: f32, nonlinear: bool) -> Spectrum<N> {
+    if nonlinear {
+        Spectrum::from_fn(|i| rho[i] / (1.0 - rho[i] * internal))
+    } else {
+        rho / (1.0 - internal)
+    }
 }
 
 /// One leaf BSDF at a hit, at the path's wavelengths.
 #[derive(Clone, Copy, Debug)]
-pub enum Lobe<const N: usize> {
+pub enum Lobe<'a, const N: usize> {
     Diffuse(Diffuse<N>),
     // Conductors.
+    /// Mirror reflection, Fresnel-weighted per wavelength.
+    Conductor(Conductor<N>),
+    /// Microfacet reflection, Fresnel-weighted per wavelength.
+    RoughConductor(RoughConductor<N>),
     // Dielectrics.
     // Plastics.
+    Plastic(Plastic<N>),
+    RoughPlastic(RoughPlastic<'a, N>),
     /// Passes light straight through, unchanged (the transparent part of a `mask`).
     Null,
 }
@@ -82,8 +143,8 @@ pub struct BsdfSample<const N: usize> {
 
 /// A BSDF at one hit: a mixture of leaf lobes whose weights sum to 1.
 #[derive(Clone, Copy, Debug)]
-pub struct Bsdf<const N: usize> {
-    lobes: [(Lobe<N>, f32, bool); MAX_LOBES],
+pub struct Bsdf<'a, const N: usize> {
+    lobes: [(Lobe<'a, N>, f32, bool); MAX_LOBES],
     count: usize,
 }
 
@@ -100,12 +161,12 @@ impl Material {
 
     /// The BSDF at `si` for a path arriving from local direction `wi`.
     #[inline]
-    pub fn bsdf<const N: usize>(
-        &self,
+    pub fn bsdf<'a, const N: usize>(
+        &'a self,
         si: &SurfaceInteraction,
         wi: Vec3,
         wl: &Wavelengths<N>,
-    ) -> Bsdf<N> {
+    ) -> Bsdf<'a, N> {
         let mut b = Bsdf {
             lobes: [(Lobe::Null, 0.0, false); MAX_LOBES],
             count: 0,
@@ -114,18 +175,51 @@ impl Material {
         b
     }
 
-    fn add_lobes<const N: usize>(
-        &self,
+    fn add_lobes<'a, const N: usize>(
+        &'a self,
         si: &SurfaceInteraction,
         wi: Vec3,
         wl: &Wavelengths<N>,
         weight: f32,
         flip: bool,
-        out: &mut Bsdf<N>,
+        out: &mut Bsdf<'a, N>,
     ) {
         let lobe = match self {
             Material::Diffuse { reflectance } => Lobe::Diffuse(Diffuse {
                 reflectance: reflectance.eval(si.uv, wl),
+            }),
+            // Conductors.
+            // Dielectrics.
+            // Plastics.
+            Material::Plastic {
+                diffuse,
+                specular,
+                eta,
+                internal,
+                nonlinear,
+                specular_weight,
+            } => Lobe::Plastic(Plastic {
+                diffuse: fold_internal(diffuse.eval(si.uv, wl), *internal, *nonlinear),
+                specular: specular.eval(si.uv, wl),
+                eta: *eta,
+                specular_weight: *specular_weight,
+            }),
+            Material::RoughPlastic {
+                diffuse,
+                specular,
+                eta,
+                microfacet,
+                transmittance,
+                internal,
+                nonlinear,
+                specular_weight,
+            } => Lobe::RoughPlastic(RoughPlastic {
+                diffuse: fold_internal(diffuse.eval(si.uv, wl), *internal, *nonlinear),
+                specular: specular.eval(si.uv, wl),
+                eta: *eta,
+                microfacet: *microfacet,
+                specular_weight: *specular_weight,
+                transmittance,
             }),
             Material::Twosided { front, back } => {
                 // The side is decided by where the path arrives from, as Mitsuba does.
@@ -146,13 +240,28 @@ impl Material {
                 Lobe::Null.push(weight * (1.0 - a), false, out);
                 return;
             }
+            Material::Conductor(p) => Lobe::Conductor(p.at(si.uv, wl)),
+            Material::RoughConductor {
+                params,
+                distribution,
+                alpha_u,
+                alpha_v,
+            } => Lobe::RoughConductor(RoughConductor {
+                surface: params.at(si.uv, wl),
+                // Texture values outside [0, 1] are clamped, as for blend weights and opacities.
+                distr: Microfacet::new(
+                    *distribution,
+                    alpha_u.eval(si.uv).clamp(0.0, 1.0),
+                    alpha_v.eval(si.uv).clamp(0.0, 1.0),
+                ),
+            }),
         };
         lobe.push(weight, flip, out);
     }
 }
 
-impl<const N: usize> Lobe<N> {
-    fn push(self, weight: f32, flip: bool, out: &mut Bsdf<N>) {
+impl<'a, const N: usize> Lobe<'a, N> {
+    fn push(self, weight: f32, flip: bool, out: &mut Bsdf<'a, N>) {
         if weight > 0.0 && out.count < MAX_LOBES {
             out.lobes[out.count] = (self, weight, flip);
             out.count += 1;
@@ -165,8 +274,12 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(b) => b.eval(wi, wo),
             // Conductors.
+            Lobe::Conductor(_) => Spectrum::zero(),
+            Lobe::RoughConductor(b) => b.eval(wi, wo),
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(b) => b.eval(wi, wo),
+            Lobe::RoughPlastic(b) => b.eval(wi, wo),
             Lobe::Null => Spectrum::zero(),
         }
     }
@@ -177,8 +290,12 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(b) => b.pdf(wi, wo),
             // Conductors.
+            Lobe::Conductor(_) => 0.0,
+            Lobe::RoughConductor(b) => b.pdf(wi, wo),
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(b) => b.pdf(wi, wo),
+            Lobe::RoughPlastic(b) => b.pdf(wi, wo),
             Lobe::Null => 0.0,
         }
     }
@@ -189,8 +306,10 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(_) | Lobe::Null => Spectrum::splat(self.pdf(wi, wo)),
             // Conductors.
+            Lobe::Conductor(_) | Lobe::RoughConductor(_) => Spectrum::splat(self.pdf(wi, wo)),
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => Spectrum::splat(self.pdf(wi, wo)),
         }
     }
 
@@ -199,8 +318,12 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(b) => b.sample(wi, uc, u),
             // Conductors.
+            Lobe::Conductor(b) => b.sample(wi, uc, u),
+            Lobe::RoughConductor(b) => b.sample(wi, uc, u),
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(b) => b.sample(wi, uc, u),
+            Lobe::RoughPlastic(b) => b.sample(wi, uc, u),
             Lobe::Null => Some(BsdfSample {
                 wo: -wi,
                 pdf: 1.0,
@@ -218,8 +341,11 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(_) => true,
             // Conductors.
+            Lobe::Conductor(_) => false,
+            Lobe::RoughConductor(_) => true,
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => true,
             Lobe::Null => false,
         }
     }
@@ -230,8 +356,10 @@ impl<const N: usize> Lobe<N> {
         match self {
             Lobe::Diffuse(_) | Lobe::Null => false,
             // Conductors.
+            Lobe::Conductor(_) | Lobe::RoughConductor(_) => false,
             // Dielectrics.
             // Plastics.
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => false,
         }
     }
 }
@@ -246,7 +374,7 @@ fn mirror(v: Vec3, flip: bool) -> Vec3 {
     }
 }
 
-impl<const N: usize> Bsdf<N> {
+impl<const N: usize> Bsdf<'_, N> {
     /// f(wi, wo) · |cos θ_o| of the smooth lobes (Dirac lobes contribute nothing here).
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {

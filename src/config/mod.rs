@@ -15,6 +15,7 @@ mod parse;
 pub mod spectrum;
 
 use crate::accel::AccelKind;
+use crate::bsdf::microfacet::Distribution;
 use crate::camera::FovAxis;
 use crate::filter::FilterConfig;
 use crate::integrator::{Dispersion, PathSettings};
@@ -188,6 +189,8 @@ impl Default for OutputConfig {
 /// Twosided(bsdf: Diffuse(reflectance: Bitmap(path: "leaf.png")))
 /// Blend(weight: 0.3, bsdf0: Diffuse(), bsdf1: Diffuse(reflectance: Constant(0.9)))
 /// Mask(opacity: Bitmap(path: "alpha.png"), bsdf: Diffuse())
+/// Conductor(material: "Au")
+/// RoughConductor(material: "Al", distribution: Ggx, alpha_u: 0.05, alpha_v: 0.3)
 /// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -218,12 +221,99 @@ pub enum MaterialConfig {
         bsdf: Box<MaterialConfig>,
     },
     // Conductors.
+    /// A smooth metal (Mitsuba's `conductor`): `material` names a metal (`"Au"`, `"Cu"`, …;
+    /// default `"none"`, a perfect mirror), or `eta` and `k` give its index of refraction
+    /// (defaults 0 and 1, the same mirror), not both; `specular_reflectance` default 1.
+    Conductor {
+        #[serde(default)]
+        material: Option<String>,
+        #[serde(default)]
+        eta: Option<SpectrumConfig>,
+        #[serde(default)]
+        k: Option<SpectrumConfig>,
+        #[serde(default = "full_reflectance")]
+        specular_reflectance: SpectrumConfig,
+    },
+    /// A rough metal (Mitsuba's `roughconductor`): `distribution` `Beckmann` (default) or `Ggx`;
+    /// `alpha` (default 0.1) or both `alpha_u` and `alpha_v`, each in (0, 1], a number or a
+    /// texture; `material`, `eta`, `k`, `specular_reflectance` as for `Conductor`.
+    RoughConductor {
+        #[serde(default)]
+        distribution: Distribution,
+        #[serde(default)]
+        alpha: Option<FloatConfig>,
+        #[serde(default)]
+        alpha_u: Option<FloatConfig>,
+        #[serde(default)]
+        alpha_v: Option<FloatConfig>,
+        #[serde(default)]
+        material: Option<String>,
+        #[serde(default)]
+        eta: Option<SpectrumConfig>,
+        #[serde(default)]
+        k: Option<SpectrumConfig>,
+        #[serde(default = "full_reflectance")]
+        specular_reflectance: SpectrumConfig,
+    },
     // Dielectrics.
     // Plastics.
+    /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
+    /// Defaults: diffuse_reflectance 0.5, specular_reflectance 1, int_ior 1.49
+    /// (polypropylene), ext_ior 1.000277 (air), nonlinear false.
+    Plastic {
+        #[serde(default = "half_grey")]
+        diffuse_reflectance: SpectrumConfig,
+        #[serde(default = "one_spectrum")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "polypropylene")]
+        int_ior: f32,
+        #[serde(default = "air")]
+        ext_ior: f32,
+        #[serde(default)]
+        nonlinear: bool,
+    },
+    /// A rough coating over a diffuse base (Mitsuba's `roughplastic`): isotropic `Beckmann`
+    /// (default) or `Ggx` with roughness `alpha` (default 0.1); other defaults as `Plastic`.
+    RoughPlastic {
+        #[serde(default)]
+        distribution: crate::bsdf::microfacet::Distribution,
+        #[serde(default = "point_one")]
+        alpha: f32,
+        #[serde(default = "half_grey")]
+        diffuse_reflectance: SpectrumConfig,
+        #[serde(default = "one_spectrum")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "polypropylene")]
+        int_ior: f32,
+        #[serde(default = "air")]
+        ext_ior: f32,
+        #[serde(default)]
+        nonlinear: bool,
+    },
+}
+
+fn one_spectrum() -> SpectrumConfig {
+    SpectrumConfig::Constant(1.0)
+}
+
+fn polypropylene() -> f32 {
+    1.49
+}
+
+fn air() -> f32 {
+    1.000_277
+}
+
+fn point_one() -> f32 {
+    0.1
 }
 
 fn half_grey() -> SpectrumConfig {
     SpectrumConfig::Constant(0.5)
+}
+
+fn full_reflectance() -> SpectrumConfig {
+    SpectrumConfig::Constant(1.0)
 }
 
 fn half() -> FloatConfig {

@@ -81,6 +81,9 @@ pub enum Role {
     Reflectance,
     /// Emitted radiance or intensity: values ≥ 0; RGB uplifted unbounded, times D65.
     Emission,
+    /// A part of a complex index of refraction (a conductor's η or κ): values ≥ 0, no upper
+    /// bound; RGB and illuminants are refused (they have no meaning as an index).
+    Ior,
 }
 
 /// Where a spectrum sits: for error messages and relative paths.
@@ -217,6 +220,11 @@ impl SpectrumConfig {
                         Curve::rgb_reflectance(rgb)
                     }
                     Role::Emission => Curve::rgb_illuminant(rgb),
+                    Role::Ior => {
+                        return Err(ctx
+                            .err("an index of refraction cannot be given as RGB")
+                            .hint("write it as Constant, Tabulated or File (nm, value), or name a metal with `material`"))
+                    }
                 }
             }
             SpectrumConfig::Tabulated(pairs) => {
@@ -274,12 +282,22 @@ impl SpectrumConfig {
                 Curve::from_samples(&t.wavelengths, &t.values[c])
             }
             SpectrumConfig::Named(name) => {
-                if role == Role::Reflectance {
-                    return Err(ctx
-                        .err(format!(
-                            "`Named(\"{name}\")` is an illuminant, not a reflectance"
-                        ))
-                        .hint("use Constant, Rgb, Tabulated or File for reflectances"));
+                match role {
+                    Role::Reflectance => {
+                        return Err(ctx
+                            .err(format!(
+                                "`Named(\"{name}\")` is an illuminant, not a reflectance"
+                            ))
+                            .hint("use Constant, Rgb, Tabulated or File for reflectances"))
+                    }
+                    Role::Ior => {
+                        return Err(ctx
+                            .err(format!(
+                                "`Named(\"{name}\")` is an illuminant, not an index of refraction"
+                            ))
+                            .hint("name a metal with the material's `material` field instead, e.g. material: \"Au\""))
+                    }
+                    Role::Emission => {}
                 }
                 data::named_illuminant(name).ok_or_else(|| {
                     ctx.err(format!("unknown spectrum name `{name}`"))
@@ -294,8 +312,8 @@ impl SpectrumConfig {
                 if *kelvin <= 0.0 {
                     return Err(ctx.err(format!("blackbody temperature {kelvin} K must be > 0")));
                 }
-                if role == Role::Reflectance {
-                    return Err(ctx.err("a blackbody is an emission spectrum, not a reflectance"));
+                if role != Role::Emission {
+                    return Err(ctx.err("a blackbody is an emission spectrum, not a reflectance or an index of refraction"));
                 }
                 Curve::Blackbody {
                     kelvin: *kelvin,

@@ -20,7 +20,7 @@ use crate::math::distribution::Distribution1D;
 use crate::spectrum::curve::Dense;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
 use crate::spectrum::{Spectrum, Wavelengths};
-use crate::texture::RgbImage;
+use crate::texture::{ImageSource, RgbImage};
 use glam::{Mat3, Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -41,6 +41,8 @@ pub struct EnvMap {
     /// Rows of cells (v), then cells within each row (u).
     marginal: Distribution1D,
     conditional: Vec<Distribution1D>,
+    /// The image file it was read from (for `prism export`), if any.
+    source: Option<ImageSource>,
 }
 
 /// Rec. 709 luminance of linear RGB.
@@ -108,7 +110,23 @@ impl EnvMap {
             to_local: to_world.transpose(),
             marginal: Distribution1D::new(&row_weights),
             conditional,
+            source: image.source.clone(),
         }
+    }
+
+    /// The image file the map was read from, if any.
+    pub fn source(&self) -> Option<&ImageSource> {
+        self.source.as_ref()
+    }
+
+    /// The user's `scale` factor.
+    pub fn scale(&self) -> f32 {
+        self.scale
+    }
+
+    /// The map-to-world rotation.
+    pub fn to_world(&self) -> Mat3 {
+        self.to_world
     }
 
     /// Local direction → (u, v) in [0, 1)×[0, 1].
@@ -207,6 +225,7 @@ mod tests {
                 .flat_map(|j| (0..w).map(move |i| (i, j)))
                 .map(|(i, j)| f(i, j))
                 .collect(),
+            source: None,
         }
     }
 

@@ -7,7 +7,7 @@ use super::EmitterSample;
 use crate::interaction::SurfaceInteraction;
 use crate::math::Transform;
 use crate::spectrum::{Curve, Wavelengths};
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Mat4, Vec3};
 
 #[derive(Clone, Debug)]
 pub struct Spot {
@@ -19,13 +19,17 @@ pub struct Spot {
     /// Angles in radians, and their cosines.
     cutoff: f32,
     beam: f32,
+    /// The angles as given, in degrees (for `prism export`).
+    cutoff_deg: f32,
+    beam_deg: f32,
     cos_cutoff: f32,
     cos_beam: f32,
 }
 
 impl Spot {
-    /// `cutoff` in (0, π/2], `beam` in [0, cutoff] (radians; the config checks).
-    pub fn new(to_world: &Transform, intensity: Curve, cutoff: f32, beam: f32) -> Spot {
+    /// `cutoff_deg` in (0, 90], `beam_deg` in [0, cutoff_deg] (degrees; the config checks).
+    pub fn new(to_world: &Transform, intensity: Curve, cutoff_deg: f32, beam_deg: f32) -> Spot {
+        let (cutoff, beam) = (cutoff_deg.to_radians(), beam_deg.to_radians());
         Spot {
             position: to_world.point(Vec3::ZERO),
             to_local: Mat3::from_mat4(to_world.inv),
@@ -34,7 +38,30 @@ impl Spot {
             beam,
             cos_cutoff: cutoff.cos(),
             cos_beam: beam.cos(),
+            cutoff_deg,
+            beam_deg,
         }
+    }
+
+    /// The light's `to_world` (rebuilt from what rendering keeps: exact to f32 rounding).
+    pub fn to_world(&self) -> Mat4 {
+        let m = self.to_local.inverse();
+        Mat4::from_cols(
+            m.x_axis.extend(0.0),
+            m.y_axis.extend(0.0),
+            m.z_axis.extend(0.0),
+            self.position.extend(1.0),
+        )
+    }
+
+    /// The intensity on the axis (W sr⁻¹ nm⁻¹).
+    pub fn intensity(&self) -> &Curve {
+        &self.intensity
+    }
+
+    /// The cutoff angle and the beam width, in degrees.
+    pub fn angles_deg(&self) -> (f32, f32) {
+        (self.cutoff_deg, self.beam_deg)
     }
 
     /// The fraction of the peak intensity emitted along `local` (a unit vector in the light's
@@ -85,12 +112,7 @@ mod tests {
 
     #[test]
     fn falloff_is_linear_in_angle() {
-        let s = Spot::new(
-            &Transform::IDENTITY,
-            Curve::Constant(1.0),
-            30f32.to_radians(),
-            20f32.to_radians(),
-        );
+        let s = Spot::new(&Transform::IDENTITY, Curve::Constant(1.0), 30.0, 20.0);
         let at = |deg: f32| {
             let t = deg.to_radians();
             s.falloff(Vec3::new(t.sin(), 0.0, t.cos()))
@@ -102,7 +124,12 @@ mod tests {
         assert_eq!(at(30.5), 0.0);
         assert_eq!(at(120.0), 0.0);
         // A hard edge when the beam fills the cone.
-        let hard = Spot::new(&Transform::IDENTITY, Curve::Constant(1.0), 0.5, 0.5);
+        let hard = Spot::new(
+            &Transform::IDENTITY,
+            Curve::Constant(1.0),
+            0.5f32.to_degrees(),
+            0.5f32.to_degrees(),
+        );
         assert_eq!(
             hard.falloff(Vec3::new(0.47f32.sin(), 0.0, 0.47f32.cos())),
             1.0

@@ -69,8 +69,8 @@ pub fn emitter(
             Emitter::Spot(Spot::new(
                 &t,
                 emission(intensity, "intensity")?,
-                cutoff.to_radians(),
-                beam.to_radians(),
+                cutoff,
+                beam,
             ))
         }
         EmitterConfig::Directional {

@@ -1,11 +1,14 @@
 //! Materials from the config.
 
-use crate::bsdf::{Material, MAX_LOBES};
+use crate::bsdf::microfacet::Microfacet;
+use crate::bsdf::{fresnel, roughplastic, ConductorParams, Material, MAX_LOBES};
 use crate::config::{
     spectrum::uv_map, spectrum_ctx, FloatConfig, FloatTextureConfig, MaterialConfig, Role,
+    SpectrumConfig,
 };
 use crate::error::InputError;
-use crate::texture::{self, FloatTexture};
+use crate::spectrum::{metals, Curve};
+use crate::texture::{self, FloatTexture, SpectralTexture};
 use std::path::Path;
 
 /// Builds material `name`; its spectra are checked over the render's wavelength `range`.
@@ -67,9 +70,243 @@ fn build(
             opacity: float(opacity, &ctx("opacity"), file)?,
         },
         // Conductors.
+        MaterialConfig::RoughConductor {
+            distribution,
+            alpha,
+            alpha_u,
+            alpha_v,
+            material,
+            eta,
+            k,
+            specular_reflectance,
+        } => {
+            let (alpha_u, alpha_v) = roughnesses(alpha, alpha_u, alpha_v, field, file)?;
+            Material::RoughConductor {
+                params: conductor(
+                    material.as_deref(),
+                    eta.as_ref(),
+                    k.as_ref(),
+                    specular_reflectance,
+                    field,
+                    file,
+                    range,
+                    warnings,
+                )?,
+                distribution: *distribution,
+                alpha_u,
+                alpha_v,
+            }
+        }
+        MaterialConfig::Conductor {
+            material,
+            eta,
+            k,
+            specular_reflectance,
+        } => Material::Conductor(conductor(
+            material.as_deref(),
+            eta.as_ref(),
+            k.as_ref(),
+            specular_reflectance,
+            field,
+            file,
+            range,
+            warnings,
+        )?),
         // Dielectrics.
         // Plastics.
+        MaterialConfig::Plastic {
+            diffuse_reflectance,
+            specular_reflectance,
+            int_ior,
+            ext_ior,
+            nonlinear,
+        } => {
+            let eta = relative_ior(*int_ior, *ext_ior, field, file)?;
+            let diffuse = diffuse_reflectance.resolve_texture(
+                Role::Reflectance,
+                &spectrum_ctx(file, &ctx("diffuse_reflectance"), range),
+                warnings,
+            )?;
+            let specular = specular_reflectance.resolve_texture(
+                Role::Reflectance,
+                &spectrum_ctx(file, &ctx("specular_reflectance"), range),
+                warnings,
+            )?;
+            Material::Plastic {
+                specular_weight: specular_weight(&diffuse, &specular, range),
+                diffuse,
+                specular,
+                eta,
+                internal: fresnel::dielectric_average(1.0 / eta),
+                nonlinear: *nonlinear,
+            }
+        }
+        MaterialConfig::RoughPlastic {
+            distribution,
+            alpha,
+            diffuse_reflectance,
+            specular_reflectance,
+            int_ior,
+            ext_ior,
+            nonlinear,
+        } => {
+            let eta = relative_ior(*int_ior, *ext_ior, field, file)?;
+            check_alpha(*alpha, &ctx("alpha"), file)?;
+            let microfacet = Microfacet::new(*distribution, *alpha, *alpha);
+            let diffuse = diffuse_reflectance.resolve_texture(
+                Role::Reflectance,
+                &spectrum_ctx(file, &ctx("diffuse_reflectance"), range),
+                warnings,
+            )?;
+            let specular = specular_reflectance.resolve_texture(
+                Role::Reflectance,
+                &spectrum_ctx(file, &ctx("specular_reflectance"), range),
+                warnings,
+            )?;
+            Material::RoughPlastic {
+                specular_weight: specular_weight(&diffuse, &specular, range),
+                diffuse,
+                specular,
+                eta,
+                transmittance: roughplastic::transmittance_table(&microfacet, eta),
+                internal: roughplastic::internal_reflectance(&microfacet, eta),
+                microfacet,
+                nonlinear: *nonlinear,
+            }
+        }
     })
+}
+
+/// A conductor's index of refraction (a named metal, explicit `eta` and `k`, or Mitsuba's
+/// default: η = 0, κ = 1, a perfect mirror) and its specular factor.
+#[allow(clippy::too_many_arguments)]
+fn conductor(
+    material: Option<&str>,
+    eta: Option<&SpectrumConfig>,
+    k: Option<&SpectrumConfig>,
+    specular: &SpectrumConfig,
+    field: &str,
+    file: &Path,
+    range: (f32, f32),
+    warnings: &mut Vec<String>,
+) -> Result<ConductorParams, InputError> {
+    let ctx = |sub: &str| format!("{field}.{sub}");
+    // Mitsuba's `material: "none"` is its default, the mirror that eta = 0, k = 1 describe.
+    let named = material.filter(|m| !m.eq_ignore_ascii_case("none"));
+    let (eta, k) = match named {
+        Some(name) => {
+            if eta.is_some() || k.is_some() {
+                return Err(InputError::new(
+                    file,
+                    format!("give either `material: \"{name}\"` or `eta` and `k`, not both"),
+                )
+                .field(field));
+            }
+            let (eta, k) = metals::named_metal(name).ok_or_else(|| {
+                InputError::new(file, format!("unknown metal `{name}`"))
+                    .field(ctx("material"))
+                    .hint(format!(
+                        "the named metals are: {}; or \"none\" for a perfect mirror",
+                        metals::metal_names().join(", ")
+                    ))
+            })?;
+            let (lo, hi) = range;
+            if let Some((a, b)) = eta.support() {
+                if a > lo || b < hi {
+                    warnings.push(format!(
+                        "{}: {}: the data for `{name}` cover {a}–{b} nm only; outside them its eta and k are 0 (a perfect mirror) in the render range {lo}–{hi} nm",
+                        file.display(),
+                        ctx("material"),
+                    ));
+                }
+            }
+            (eta, k)
+        }
+        None => {
+            let part = |s: Option<&SpectrumConfig>, name: &str, default: f32, warnings: &mut _| {
+                s.map_or(Ok(Curve::Constant(default)), |s| {
+                    s.resolve(Role::Ior, &spectrum_ctx(file, &ctx(name), range), warnings)
+                })
+            };
+            (
+                part(eta, "eta", 0.0, warnings)?,
+                part(k, "k", 1.0, warnings)?,
+            )
+        }
+    };
+    Ok(ConductorParams {
+        eta,
+        k,
+        specular_reflectance: specular.resolve_texture(
+            Role::Reflectance,
+            &spectrum_ctx(file, &ctx("specular_reflectance"), range),
+            warnings,
+        )?,
+    })
+}
+
+/// The roughnesses along u and v: `alpha` for both, or `alpha_u` and `alpha_v` (Mitsuba's rules:
+/// both or neither of those two, and not with `alpha`); default 0.1.
+fn roughnesses(
+    alpha: &Option<FloatConfig>,
+    alpha_u: &Option<FloatConfig>,
+    alpha_v: &Option<FloatConfig>,
+    field: &str,
+    file: &Path,
+) -> Result<(FloatTexture, FloatTexture), InputError> {
+    let ctx = |sub: &str| format!("{field}.{sub}");
+    Ok(match (alpha, alpha_u, alpha_v) {
+        (None, None, None) => (FloatTexture::Constant(0.1), FloatTexture::Constant(0.1)),
+        (Some(a), None, None) => {
+            let a = roughness(a, &ctx("alpha"), file)?;
+            (a.clone(), a)
+        }
+        (None, Some(u), Some(v)) => (
+            roughness(u, &ctx("alpha_u"), file)?,
+            roughness(v, &ctx("alpha_v"), file)?,
+        ),
+        (Some(_), _, _) => {
+            return Err(InputError::new(
+                file,
+                "give either `alpha` or `alpha_u` and `alpha_v`, not both",
+            )
+            .field(field))
+        }
+        (None, _, _) => {
+            return Err(InputError::new(
+                file,
+                "an anisotropic roughness needs both `alpha_u` and `alpha_v`",
+            )
+            .field(field)
+            .hint("or give one `alpha` for both directions"))
+        }
+    })
+}
+
+/// A microfacet roughness: a number in (0, 1] or a texture (values clamped to [0, 1]; 0 texels
+/// become the smallest roughness the distributions represent, 1e-4, as in Mitsuba).
+fn roughness(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, InputError> {
+    let check = |v: f32| {
+        if v > 0.0 && v <= 1.0 {
+            Ok(())
+        } else {
+            Err(InputError::new(file, format!("roughness {v} is not in (0, 1]"))
+                .field(field)
+                .hint("0 is a smooth surface (use Conductor); Mitsuba calls 0.1 relatively rough and 0.3–0.7 extremely rough"))
+        }
+    };
+    match f {
+        FloatConfig::Value(v) => {
+            check(*v)?;
+            Ok(FloatTexture::Constant(*v))
+        }
+        FloatConfig::Texture(FloatTextureConfig::Checkerboard { value0, value1, .. }) => {
+            check(*value0)?;
+            check(*value1)?;
+            float(f, field, file)
+        }
+        FloatConfig::Texture(FloatTextureConfig::Bitmap { .. }) => float(f, field, file),
+    }
 }
 
 /// A scalar parameter in [0, 1] (a blend weight, an opacity).
@@ -121,4 +358,44 @@ fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, Inpu
             )))
         }
     })
+}
+
+/// η = int / ext, both positive and finite.
+fn relative_ior(int: f32, ext: f32, field: &str, file: &Path) -> Result<f32, InputError> {
+    for (v, name) in [(int, "int_ior"), (ext, "ext_ior")] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(
+                InputError::new(file, format!("{name} {v} must be a positive number"))
+                    .field(format!("{field}.{name}")),
+            );
+        }
+    }
+    Ok(int / ext)
+}
+
+/// Microfacet roughness: Mitsuba accepts any positive value; above 1 the models leave their
+/// range of validity, so prism refuses it.
+pub fn check_alpha(alpha: f32, field: &str, file: &Path) -> Result<(), InputError> {
+    if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
+        return Err(
+            InputError::new(file, format!("roughness {alpha} must lie in (0, 1]"))
+                .field(field)
+                .hint("use a smooth material for a perfectly specular surface"),
+        );
+    }
+    Ok(())
+}
+
+/// Mitsuba's share of samples for the specular lobe: mean(specular) / (mean(diffuse) + mean(specular)).
+fn specular_weight(
+    diffuse: &SpectralTexture,
+    specular: &SpectralTexture,
+    (lo, hi): (f32, f32),
+) -> f32 {
+    let (d, s) = (diffuse.mean(lo, hi), specular.mean(lo, hi));
+    if d + s > 0.0 {
+        s / (d + s)
+    } else {
+        0.5
+    }
 }

@@ -57,8 +57,13 @@ fn load_obj(path: &Path) -> Result<Mesh, String> {
             );
         }
         if all_uvs {
-            mesh.uvs
-                .extend(m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], t[1])));
+            // OBJ puts the texture origin at the bottom left; prism's texture space (Mitsuba's)
+            // has it at the top left, so v is flipped, as Mitsuba's OBJ loader does by default.
+            mesh.uvs.extend(
+                m.texcoords
+                    .chunks_exact(2)
+                    .map(|t| Vec2::new(t[0], 1.0 - t[1])),
+            );
         }
         mesh.indices.extend(
             m.indices
@@ -186,6 +191,23 @@ mod tests {
         );
         let m = load(&ply).unwrap();
         assert_eq!(m.indices, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn obj_texture_v_is_flipped() {
+        let obj = temp(
+            "uv.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0.25\nvt 0 1\nf 1/1 2/2 3/3\n",
+        );
+        let m = load(&obj).unwrap();
+        assert_eq!(
+            m.uvs,
+            vec![
+                Vec2::new(0.0, 1.0),
+                Vec2::new(1.0, 0.75),
+                Vec2::new(0.0, 0.0)
+            ]
+        );
     }
 
     #[test]

@@ -209,6 +209,30 @@ impl Curve {
         }
     }
 
+    /// Samples that reproduce the curve over [lo, hi] for a piecewise-linear consumer: the
+    /// knots of tabulated data (exact), or a 1 nm grid for smooth curves (sigmoids, Planck,
+    /// whose curvature makes 1 nm linear interpolation accurate to ~1e-5 relative). None for a
+    /// constant.
+    pub fn tabulate(&self, lo: f32, hi: f32) -> Option<(Vec<f32>, Vec<f32>)> {
+        let knots: Vec<f32> = match self {
+            Curve::Constant(_) => return None,
+            Curve::Dense(d) => {
+                let (a, b) = d.range();
+                let n = d.values.len();
+                (0..n)
+                    .map(|i| a + (b - a) * i as f32 / (n - 1).max(1) as f32)
+                    .collect()
+            }
+            Curve::Irregular { nm, .. } => nm.clone(),
+            _ => {
+                let n = (hi - lo).ceil() as usize;
+                (0..=n).map(|i| (lo + i as f32).min(hi)).collect()
+            }
+        };
+        let values = knots.iter().map(|&l| self.eval_one(l)).collect();
+        Some((knots, values))
+    }
+
     /// True if the value does not depend on wavelength.
     pub fn is_constant(&self) -> bool {
         matches!(self, Curve::Constant(_))

@@ -4,6 +4,7 @@
 pub mod color;
 pub mod curve;
 pub mod data;
+pub mod metals;
 pub mod rgb2spec;
 pub mod rgb2spec_fit;
 pub mod sampled;

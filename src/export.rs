@@ -1,0 +1,314 @@
+//! `prism export`: the fully resolved scene, as prism will render it, for other tools (the
+//! Mitsuba 3 comparison in `tools/` reads it; there is no second RON parser anywhere).
+//!
+//! Everything is resolved: defaults filled in, every spectrum tabulated (`{"type":"irregular",
+//! "wavelengths":[..], "values":[..]}` or `{"type":"constant","value":v}`; RGB already uplifted),
+//! every triangle mesh (rectangles and cubes included) written in world space as a binary PLY
+//! next to the JSON. Layout (all matrices 4×4 row-major, lengths in scene units):
+//!
+//! ```text
+//! { "format": "prism-scene", "version": 1, "source": path,
+//!   "camera": {"to_world", "fov_x_deg", "near_clip", "far_clip"},
+//!   "film": {"width", "height", "filter": {"type": "box", "radius"} | {"type": "gaussian", "stddev"}},
+//!   "sampler": {"type": "independent" | "sobol", "spp", "seed"},
+//!   "integrator": {"type": "path", "max_depth", "rr_depth", "hide_emitters"},
+//!   "spectral": {"wavelengths", "range": [lo, hi], "sampling", "dispersion"},
+//!   "outputs": {"rgb", "xyz", "bands": null | {"count", "range"}},
+//!   "materials": [material...], "shapes": [shape...], "emitters": [emitter...] }
+//! material: {"type": "diffuse", "reflectance": texture} | {"type": "twosided", "front", "back"}
+//!   | {"type": "blend", "weight": float_texture, "bsdf0", "bsdf1"} | {"type": "mask", "opacity", "bsdf"}
+//!   | {"type": "plastic" | "roughplastic", ...} | ...
+//! texture: spectrum | {"type": "checkerboard", "color0", "color1", "uv_scale", "uv_offset"}
+//!   | {"type": "bitmap", "filename", "raw", "filter", "wrap", "uv_scale", "uv_offset"}
+//! shape: {"type": "mesh", "filename", "has_normals", ...} | {"type": "sphere", "center", "radius"}
+//!   | {"type": "disk", "to_world"}, each with "flip_normals", "material" (index), "emitter" (index or null)
+//! emitter: {"type": "area", "shape", "radiance"} | {"type": "point", "position", "intensity"}
+//!   | {"type": "constant", "radiance"}
+//!   | {"type": "spot", "intensity", "cutoff_angle", "beam_width", "to_world"} (angles in degrees)
+//!   | {"type": "directional", "direction" (the way the light travels, unit), "irradiance"}
+//!   | {"type": "envmap", "filename" (absolute path of the source image: Mitsuba uplifts its RGB
+//!     the same way), "scale", "to_world"}
+//! ```
+
+use crate::bsdf::{microfacet::Distribution, Material};
+use crate::emitter::Emitter;
+use crate::error::Error;
+use crate::filter::Filter;
+use crate::scene::Job;
+use crate::shape::{Mesh, Shape};
+use crate::spectrum::Curve;
+use crate::texture::{FloatTexture, SpectralTexture, TexFilter, UvMap, Wrap};
+use glam::Mat4;
+use serde_json::{json, Value};
+use std::io::Write;
+use std::path::Path;
+
+/// Writes `dir/scene.json` and `dir/meshes/*.ply` for the scene file `scene_file`.
+pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
+    std::fs::create_dir_all(dir.join("meshes")).map_err(|e| Error::io(dir, e))?;
+    let s = &job.settings;
+    let (lo, hi) = s.wavelengths.range();
+    let ctx = Ctx { lo, hi };
+    let scene = &job.scene;
+    let cam = &scene.camera;
+    let mut shapes = Vec::new();
+    for (i, shape) in scene.shapes.iter().enumerate() {
+        let mut v = match shape {
+            Shape::Mesh(m) => {
+                let file = dir.join("meshes").join(format!("{i:04}.ply"));
+                write_ply(m, &file)?;
+                json!({"type": "mesh", "filename": file.canonicalize().map_err(|e| Error::io(&file, e))?, "has_normals": !m.normals.is_empty(), "has_uvs": !m.uvs.is_empty()})
+            }
+            Shape::Sphere(sp) => {
+                json!({"type": "sphere", "center": sp.center.to_array(), "radius": sp.radius, "flip_normals": sp.flip})
+            }
+            Shape::Disk(d) => {
+                json!({"type": "disk", "to_world": rows(&d.to_world.m), "flip_normals": d.flip})
+            }
+        };
+        v["material"] = json!(scene.shape_material[i]);
+        v["emitter"] = json!(scene.shape_emitter[i]);
+        shapes.push(v);
+    }
+    let out = json!({
+        "format": "prism-scene",
+        "version": 1,
+        "source": scene_file.canonicalize().unwrap_or_else(|_| scene_file.to_path_buf()),
+        "camera": {
+            "to_world": rows(&cam.to_world.m),
+            "fov_x_deg": 2.0 * cam.tan_half_fov().x.atan().to_degrees(),
+            "near_clip": cam.near_clip(),
+            "far_clip": cam.far_clip(),
+        },
+        "film": {"width": s.width, "height": s.height, "filter": match &s.filter {
+            Filter::Box { radius } => json!({"type": "box", "radius": radius}),
+            Filter::Tabulated { radius, .. } => json!({"type": "gaussian", "stddev": radius / 4.0}),
+        }},
+        "sampler": {"type": format!("{:?}", s.sampler).to_lowercase(), "spp": s.spp, "seed": s.seed},
+        "integrator": {"type": "path", "max_depth": s.path.max_depth, "rr_depth": s.path.rr_depth, "hide_emitters": s.path.hide_emitters},
+        "spectral": {"wavelengths": s.lanes, "range": [lo, hi], "sampling": format!("{:?}", s.wavelengths.kind()).to_lowercase(), "dispersion": format!("{:?}", s.dispersion)},
+        "outputs": {"rgb": job.channels.rgb, "xyz": job.channels.xyz, "bands": job.channels.bands.map(|b| json!({"count": b.count, "range": [b.lo, b.hi]}))},
+        "materials": scene.materials.iter().map(|m| ctx.material(m)).collect::<Vec<_>>(),
+        "shapes": shapes,
+        "emitters": scene.emitters.iter().map(|e| ctx.emitter(e)).collect::<Vec<_>>(),
+    });
+    let file = dir.join("scene.json");
+    let text = serde_json::to_string_pretty(&out).map_err(|e| Error::Other(e.to_string()))?;
+    crate::output::write_atomic(&file, |tmp| {
+        std::fs::write(tmp, text).map_err(|e| e.to_string())
+    })
+}
+
+fn rows(m: &Mat4) -> [[f32; 4]; 4] {
+    m.transpose().to_cols_array_2d()
+}
+
+struct Ctx {
+    lo: f32,
+    hi: f32,
+}
+
+impl Ctx {
+    fn spectrum(&self, c: &Curve) -> Value {
+        match c.tabulate(self.lo, self.hi) {
+            None => json!({"type": "constant", "value": c.eval_one(0.5 * (self.lo + self.hi))}),
+            Some((wl, v)) => json!({"type": "irregular", "wavelengths": wl, "values": v}),
+        }
+    }
+
+    fn uv(map: &UvMap) -> (Value, Value) {
+        (
+            json!([map.scale.x, map.scale.y]),
+            json!([map.offset.x, map.offset.y]),
+        )
+    }
+
+    fn texture(&self, t: &SpectralTexture) -> Value {
+        match t {
+            SpectralTexture::Uniform(c) => self.spectrum(c),
+            SpectralTexture::Checkerboard {
+                color0,
+                color1,
+                map,
+            } => {
+                let (scale, offset) = Self::uv(map);
+                json!({"type": "checkerboard", "color0": self.spectrum(color0), "color1": self.spectrum(color1), "uv_scale": scale, "uv_offset": offset})
+            }
+            SpectralTexture::Bitmap(g) => {
+                let (scale, offset) = Self::uv(&g.map);
+                let src = g.source.as_ref();
+                json!({"type": "bitmap", "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())), "raw": src.is_some_and(|s| s.raw),
+                       "filter": filter_name(g.filter), "wrap": wrap_name(g.wrap), "uv_scale": scale, "uv_offset": offset})
+            }
+        }
+    }
+
+    fn float_texture(&self, t: &FloatTexture) -> Value {
+        match t {
+            FloatTexture::Constant(v) => json!({"type": "constant", "value": v}),
+            FloatTexture::Checkerboard {
+                value0,
+                value1,
+                map,
+            } => {
+                let (scale, offset) = Self::uv(map);
+                json!({"type": "checkerboard", "value0": value0, "value1": value1, "uv_scale": scale, "uv_offset": offset})
+            }
+            FloatTexture::Bitmap(g) => {
+                let (scale, offset) = Self::uv(&g.map);
+                let src = g.source.as_ref();
+                json!({"type": "bitmap", "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())), "raw": src.is_some_and(|s| s.raw),
+                       "filter": filter_name(g.filter), "wrap": wrap_name(g.wrap), "uv_scale": scale, "uv_offset": offset})
+            }
+        }
+    }
+
+    fn material(&self, m: &Material) -> Value {
+        match m {
+            Material::Diffuse { reflectance } => {
+                json!({"type": "diffuse", "reflectance": self.texture(reflectance)})
+            }
+            Material::Twosided { front, back } => {
+                json!({"type": "twosided", "front": self.material(front), "back": self.material(back)})
+            }
+            Material::Blend { a, b, weight } => {
+                json!({"type": "blend", "weight": self.float_texture(weight), "bsdf0": self.material(a), "bsdf1": self.material(b)})
+            }
+            Material::Mask { inner, opacity } => {
+                json!({"type": "mask", "opacity": self.float_texture(opacity), "bsdf": self.material(inner)})
+            }
+            // Conductors.
+            Material::Conductor(p) => {
+                json!({"type": "conductor", "eta": self.spectrum(&p.eta), "k": self.spectrum(&p.k),
+                       "specular_reflectance": self.texture(&p.specular_reflectance)})
+            }
+            Material::RoughConductor {
+                params: p,
+                distribution,
+                alpha_u,
+                alpha_v,
+            } => {
+                json!({"type": "roughconductor", "eta": self.spectrum(&p.eta), "k": self.spectrum(&p.k),
+                       "specular_reflectance": self.texture(&p.specular_reflectance),
+                       "distribution": distribution_name(*distribution),
+                       "alpha_u": self.float_texture(alpha_u), "alpha_v": self.float_texture(alpha_v)})
+            }
+            // Dielectrics.
+            // Plastics.
+            Material::Plastic {
+                diffuse,
+                specular,
+                eta,
+                nonlinear,
+                ..
+            } => json!({"type": "plastic", "diffuse_reflectance": self.texture(diffuse),
+                "specular_reflectance": self.texture(specular), "int_ior": eta, "ext_ior": 1.0, "nonlinear": nonlinear}),
+            Material::RoughPlastic {
+                diffuse,
+                specular,
+                eta,
+                microfacet,
+                nonlinear,
+                ..
+            } => json!({"type": "roughplastic", "diffuse_reflectance": self.texture(diffuse),
+                "specular_reflectance": self.texture(specular), "int_ior": eta, "ext_ior": 1.0, "nonlinear": nonlinear,
+                "distribution": distribution_name(microfacet.kind), "alpha": microfacet.alpha_u}),
+        }
+    }
+
+    fn emitter(&self, e: &Emitter) -> Value {
+        match e {
+            Emitter::Area(a) => {
+                json!({"type": "area", "shape": a.shape, "radiance": self.spectrum(&a.radiance)})
+            }
+            Emitter::Point {
+                position,
+                intensity,
+            } => {
+                json!({"type": "point", "position": position.to_array(), "intensity": self.spectrum(intensity)})
+            }
+            // Spot, directional and environment-map emitters.
+            Emitter::Spot(s) => {
+                let (cutoff, beam) = s.angles_deg();
+                json!({"type": "spot", "intensity": self.spectrum(s.intensity()), "cutoff_angle": cutoff,
+                       "beam_width": beam, "to_world": rows(&s.to_world())})
+            }
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => {
+                json!({"type": "directional", "direction": direction.to_array(), "irradiance": self.spectrum(irradiance)})
+            }
+            Emitter::Envmap(m) => {
+                let src = m.source();
+                json!({"type": "envmap", "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())),
+                       "scale": m.scale(), "to_world": rows(&Mat4::from_mat3(m.to_world()))})
+            }
+            Emitter::Constant { radiance } => {
+                json!({"type": "constant", "radiance": self.spectrum(radiance)})
+            }
+        }
+    }
+}
+
+pub(crate) fn distribution_name(d: Distribution) -> &'static str {
+    match d {
+        Distribution::Beckmann => "beckmann",
+        Distribution::Ggx => "ggx",
+    }
+}
+
+fn filter_name(f: TexFilter) -> &'static str {
+    match f {
+        TexFilter::Bilinear => "bilinear",
+        TexFilter::Nearest => "nearest",
+    }
+}
+
+fn wrap_name(w: Wrap) -> &'static str {
+    match w {
+        Wrap::Repeat => "repeat",
+        Wrap::Clamp => "clamp",
+    }
+}
+
+/// A binary little-endian PLY with positions, optional normals and uvs, and triangles.
+fn write_ply(m: &Mesh, path: &Path) -> Result<(), Error> {
+    let mut out = Vec::new();
+    let mut header = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment written by prism export\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n",
+        m.positions.len()
+    );
+    if !m.normals.is_empty() {
+        header.push_str("property float nx\nproperty float ny\nproperty float nz\n");
+    }
+    if !m.uvs.is_empty() {
+        header.push_str("property float u\nproperty float v\n");
+    }
+    header.push_str(&format!(
+        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        m.indices.len()
+    ));
+    out.write_all(header.as_bytes()).unwrap();
+    for i in 0..m.positions.len() {
+        let mut vals = m.positions[i].to_array().to_vec();
+        if !m.normals.is_empty() {
+            vals.extend(m.normals[i].to_array());
+        }
+        if !m.uvs.is_empty() {
+            vals.extend(m.uvs[i].to_array());
+        }
+        for v in vals {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    for tri in &m.indices {
+        out.push(3);
+        for &i in tri {
+            out.extend_from_slice(&(i as i32).to_le_bytes());
+        }
+    }
+    crate::output::write_atomic(path, |tmp| {
+        std::fs::write(tmp, &out).map_err(|e| e.to_string())
+    })
+}
