@@ -163,6 +163,14 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         "integrator.max_depth",
         "max_depth must be −1 (unbounded) or ≥ 0",
     )?;
+    if let Some(c) = cfg.integrator.clamp {
+        check(
+            c.is_finite() && c > 0.0,
+            file,
+            "integrator.clamp",
+            "clamp must be a positive radiance (or left out: no clamping)",
+        )?;
+    }
 
     // Outputs.
     let o = &cfg.outputs;
