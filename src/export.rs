@@ -27,7 +27,11 @@
 //! shape: {"type": "mesh", "filename", "has_normals", ...} | {"type": "sphere", "center", "radius"}
 //!   | {"type": "disk", "to_world"}, each with "flip_normals", "material" (index), "emitter" (index or null)
 //! emitter: {"type": "area", "shape", "radiance"} | {"type": "point", "position", "intensity"}
-//!   | {"type": "constant", "radiance"} | ...
+//!   | {"type": "constant", "radiance"}
+//!   | {"type": "spot", "intensity", "cutoff_angle", "beam_width", "to_world"} (angles in degrees)
+//!   | {"type": "directional", "direction" (the way the light travels, unit), "irradiance"}
+//!   | {"type": "envmap", "filename" (absolute path of the source image: Mitsuba uplifts its RGB
+//!     the same way), "scale", "to_world"}
 //! ```
 
 use crate::bsdf::{microfacet::Distribution, Material};
@@ -285,6 +289,22 @@ impl Ctx {
                 json!({"type": "point", "position": position.to_array(), "intensity": self.spectrum(intensity)})
             }
             // Spot, directional and environment-map emitters.
+            Emitter::Spot(s) => {
+                let (cutoff, beam) = s.angles_deg();
+                json!({"type": "spot", "intensity": self.spectrum(s.intensity()), "cutoff_angle": cutoff,
+                       "beam_width": beam, "to_world": rows(&s.to_world())})
+            }
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => {
+                json!({"type": "directional", "direction": direction.to_array(), "irradiance": self.spectrum(irradiance)})
+            }
+            Emitter::Envmap(m) => {
+                let src = m.source();
+                json!({"type": "envmap", "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())),
+                       "scale": m.scale(), "to_world": rows(&Mat4::from_mat3(m.to_world()))})
+            }
             Emitter::Constant { radiance } => {
                 json!({"type": "constant", "radiance": self.spectrum(radiance)})
             }
