@@ -17,13 +17,21 @@
 //!   "materials": [material...], "shapes": [shape...], "emitters": [emitter...] }
 //! material: {"type": "diffuse", "reflectance": texture} | {"type": "twosided", "front", "back"}
 //!   | {"type": "blend", "weight": float_texture, "bsdf0", "bsdf1"} | {"type": "mask", "opacity", "bsdf"}
-//!   | {"type": "plastic" | "roughplastic", ...} | ...
+//!   | {"type": "plastic" | "roughplastic", ...}
+//!   | {"type": "dielectric" | "thindielectric" | "roughdielectric", "int_ior", "ext_ior",
+//!      "dispersive", "specular_reflectance", "specular_transmittance"[, "distribution",
+//!      "alpha_u", "alpha_v"]} | ...
+//!   (a dielectric's int_ior and ext_ior are numbers, or spectra where "dispersive" is true)
 //! texture: spectrum | {"type": "checkerboard", "color0", "color1", "uv_scale", "uv_offset"}
 //!   | {"type": "bitmap", "filename", "raw", "filter", "wrap", "uv_scale", "uv_offset"}
 //! shape: {"type": "mesh", "filename", "has_normals", ...} | {"type": "sphere", "center", "radius"}
 //!   | {"type": "disk", "to_world"}, each with "flip_normals", "material" (index), "emitter" (index or null)
 //! emitter: {"type": "area", "shape", "radiance"} | {"type": "point", "position", "intensity"}
-//!   | {"type": "constant", "radiance"} | ...
+//!   | {"type": "constant", "radiance"}
+//!   | {"type": "spot", "intensity", "cutoff_angle", "beam_width", "to_world"} (angles in degrees)
+//!   | {"type": "directional", "direction" (the way the light travels, unit), "irradiance"}
+//!   | {"type": "envmap", "filename" (absolute path of the source image: Mitsuba uplifts its RGB
+//!     the same way), "scale", "to_world"}
 //! ```
 
 use crate::bsdf::{microfacet::Distribution, Material};
@@ -32,7 +40,7 @@ use crate::error::Error;
 use crate::filter::Filter;
 use crate::scene::Job;
 use crate::shape::{Mesh, Shape};
-use crate::spectrum::Curve;
+use crate::spectrum::{Curve, Ior, RelativeIor};
 use crate::texture::{FloatTexture, SpectralTexture, TexFilter, UvMap, Wrap};
 use glam::Mat4;
 use serde_json::{json, Value};
@@ -190,6 +198,44 @@ impl Ctx {
                        "alpha_u": self.float_texture(alpha_u), "alpha_v": self.float_texture(alpha_v)})
             }
             // Dielectrics.
+            Material::Dielectric {
+                ior,
+                specular_reflectance,
+                specular_transmittance,
+            } => {
+                let mut v = json!({"type": "dielectric",
+                    "specular_reflectance": self.texture(specular_reflectance),
+                    "specular_transmittance": self.texture(specular_transmittance)});
+                self.iors(ior, &mut v);
+                v
+            }
+            Material::RoughDielectric {
+                ior,
+                distribution,
+                alpha_u,
+                alpha_v,
+                specular_reflectance,
+                specular_transmittance,
+            } => {
+                let mut v = json!({"type": "roughdielectric",
+                    "specular_reflectance": self.texture(specular_reflectance),
+                    "specular_transmittance": self.texture(specular_transmittance),
+                    "distribution": distribution_name(*distribution),
+                    "alpha_u": self.float_texture(alpha_u), "alpha_v": self.float_texture(alpha_v)});
+                self.iors(ior, &mut v);
+                v
+            }
+            Material::ThinDielectric {
+                ior,
+                specular_reflectance,
+                specular_transmittance,
+            } => {
+                let mut v = json!({"type": "thindielectric",
+                    "specular_reflectance": self.texture(specular_reflectance),
+                    "specular_transmittance": self.texture(specular_transmittance)});
+                self.iors(ior, &mut v);
+                v
+            }
             // Plastics.
             Material::Plastic {
                 diffuse,
@@ -212,6 +258,25 @@ impl Ctx {
         }
     }
 
+    /// A dielectric's `int_ior` and `ext_ior`: numbers (as Mitsuba takes them) unless the
+    /// interface is dispersive; then both are spectra (a constant side as `{"type": "constant"}`)
+    /// and `"dispersive": true` tells the reader that Mitsuba cannot render it the same way.
+    fn iors(&self, ior: &RelativeIor, out: &mut Value) {
+        let mid = 0.5 * (self.lo + self.hi);
+        let side = |n: &Ior| {
+            if !ior.dispersive() {
+                return json!(n.eval_one(mid));
+            }
+            match n.tabulate(self.lo, self.hi) {
+                None => json!({"type": "constant", "value": n.eval_one(mid)}),
+                Some((wl, v)) => json!({"type": "irregular", "wavelengths": wl, "values": v}),
+            }
+        };
+        out["int_ior"] = side(&ior.int);
+        out["ext_ior"] = side(&ior.ext);
+        out["dispersive"] = json!(ior.dispersive());
+    }
+
     fn emitter(&self, e: &Emitter) -> Value {
         match e {
             Emitter::Area(a) => {
@@ -224,6 +289,22 @@ impl Ctx {
                 json!({"type": "point", "position": position.to_array(), "intensity": self.spectrum(intensity)})
             }
             // Spot, directional and environment-map emitters.
+            Emitter::Spot(s) => {
+                let (cutoff, beam) = s.angles_deg();
+                json!({"type": "spot", "intensity": self.spectrum(s.intensity()), "cutoff_angle": cutoff,
+                       "beam_width": beam, "to_world": rows(&s.to_world())})
+            }
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => {
+                json!({"type": "directional", "direction": direction.to_array(), "irradiance": self.spectrum(irradiance)})
+            }
+            Emitter::Envmap(m) => {
+                let src = m.source();
+                json!({"type": "envmap", "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())),
+                       "scale": m.scale(), "to_world": rows(&Mat4::from_mat3(m.to_world()))})
+            }
             Emitter::Constant { radiance } => {
                 json!({"type": "constant", "radiance": self.spectrum(radiance)})
             }

@@ -248,6 +248,155 @@ fn missing_scene_file() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/scene.ron"));
 }
 
+/// `GOOD` with its emitter replaced.
+fn with_emitter(emitter: &str) -> String {
+    GOOD.replace(r#"Constant(radiance: Named("D65"))"#, emitter)
+}
+
+#[test]
+fn missing_or_unreadable_envmap_image() {
+    assert_input_error(
+        "envmap missing",
+        &with_emitter(r#"Envmap(filename: "nope/sky.exr")"#),
+        &[],
+        &[
+            "scene.ron",
+            "emitters[0].filename",
+            "nope/sky.exr",
+            "does not exist",
+        ],
+    );
+    let dir = workdir("envmap-garbage");
+    std::fs::write(dir.join("sky.exr"), "not an image").unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(&scene, with_emitter(r#"Envmap(filename: "sky.exr")"#)).unwrap();
+    let o = prism()
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(dir.join("x.exr"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("scene.ron")
+            && err.contains("emitters[0].filename")
+            && err.contains("sky.exr"),
+        "{err}"
+    );
+    assert!(!dir.join("x.exr").exists());
+}
+
+#[test]
+fn bad_spot_parameters() {
+    let spot = |params: &str| with_emitter(&format!("Spot({params})"));
+    for (name, params, needles) in [
+        (
+            "cutoff 0",
+            "cutoff_angle: 0",
+            &["emitters[0].cutoff_angle", "(0, 90]"][..],
+        ),
+        (
+            "cutoff 120",
+            "cutoff_angle: 120",
+            &["emitters[0].cutoff_angle"][..],
+        ),
+        (
+            "cutoff nan",
+            "cutoff_angle: NaN",
+            &["emitters[0].cutoff_angle"][..],
+        ),
+        (
+            "beam wider",
+            "cutoff_angle: 20, beam_width: 25",
+            &["emitters[0].beam_width", "cutoff_angle"][..],
+        ),
+        (
+            "beam negative",
+            "beam_width: -1",
+            &["emitters[0].beam_width"][..],
+        ),
+        (
+            "intensity negative",
+            "intensity: Constant(-2)",
+            &["emitters[0].intensity", "negative"][..],
+        ),
+    ] {
+        assert_input_error(name, &spot(params), &[], needles);
+    }
+}
+
+#[test]
+fn bad_directional_and_envmap_parameters() {
+    assert_input_error(
+        "zero direction",
+        &with_emitter("Directional(direction: (0, 0, 0))"),
+        &[],
+        &["emitters[0].direction", "non-zero"],
+    );
+    assert_input_error(
+        "direction and to_world",
+        &with_emitter(
+            "Directional(direction: (0, -1, 0), to_world: [Rotate(axis: (1, 0, 0), angle: 90)])",
+        ),
+        &[],
+        &["emitters[0]", "not both"],
+    );
+    assert_input_error(
+        "irradiance nan",
+        &with_emitter("Directional(irradiance: Constant(NaN))"),
+        &[],
+        &["emitters[0].irradiance", "finite"],
+    );
+    assert_input_error(
+        "envmap scale",
+        &with_emitter(r#"Envmap(filename: "sky.exr", scale: -1)"#),
+        &[],
+        &["emitters[0].scale", "≥ 0"],
+    );
+    assert_input_error(
+        "envmap scaled",
+        &with_emitter(r#"Envmap(filename: "sky.exr", to_world: [Scale((2, 1, 1))])"#),
+        &[],
+        &["emitters[0].to_world", "rotate"],
+    );
+}
+
+#[test]
+fn envmap_must_be_equirectangular() {
+    for (name, w, h, needles) in [
+        (
+            "envmap 16x12",
+            16,
+            12,
+            &["16×12", "equirectangular", "twice as wide as high"][..],
+        ),
+        ("envmap 4x2", 4, 2, &["4×2", "at least 6×3"][..]),
+    ] {
+        let dir = workdir(&name.replace(' ', "-"));
+        exr::prelude::write_rgb_file(dir.join("sky.exr"), w, h, |_, _| (1.0f32, 1.0, 1.0)).unwrap();
+        let scene = dir.join("scene.ron");
+        std::fs::write(&scene, with_emitter(r#"Envmap(filename: "sky.exr")"#)).unwrap();
+        let o = prism()
+            .arg("render")
+            .arg(&scene)
+            .arg("-o")
+            .arg(dir.join("x.exr"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(!dir.join("x.exr").exists(), "{name}");
+        for n in ["scene.ron", "emitters[0].filename", "sky.exr"]
+            .iter()
+            .chain(needles)
+        {
+            assert!(err.contains(n), "{name}: stderr lacks `{n}`:\n{err}");
+        }
+    }
+}
+
 #[test]
 fn bad_conductors() {
     let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
@@ -334,4 +483,321 @@ fn accel_embree_needs_the_feature() {
             &["accel", "--features embree"],
         );
     }
+}
+#[test]
+fn unreadable_textures() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "missing texture",
+        &with("Diffuse(reflectance: Bitmap(path: \"textures/nope.png\"))"),
+        &[],
+        &["materials.\"grey\".reflectance", "nope.png"],
+    );
+    let dir = workdir("corrupt-texture-data");
+    let bad = dir.join("corrupt.png");
+    std::fs::write(&bad, b"\x89PNG\r\n\x1a\nthis is not a PNG").unwrap();
+    assert_input_error(
+        "corrupt texture",
+        &with(&format!(
+            "Diffuse(reflectance: Bitmap(path: {:?}))",
+            bad.to_str().unwrap()
+        )),
+        &[],
+        &["materials.\"grey\".reflectance", "corrupt.png"],
+    );
+    assert_input_error(
+        "corrupt opacity texture",
+        &with(&format!(
+            "Mask(opacity: Bitmap(path: {:?}), bsdf: Diffuse())",
+            bad.to_str().unwrap()
+        )),
+        &[],
+        &["materials.\"grey\".opacity", "corrupt.png"],
+    );
+}
+
+/// `prism export` writes spot, directional and envmap emitters with Mitsuba 3's parameter names,
+/// defaults resolved, the map's absolute path and 4×4 row-major matrices.
+#[test]
+fn export_writes_spot_directional_and_envmap() {
+    let dir = workdir("export-emitters");
+    exr::prelude::write_rgb_file(dir.join("sky.exr"), 8, 4, |_, _| (1.0f32, 1.0, 1.0)).unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(
+        &scene,
+        GOOD.replace(
+            r#"emitters: [Constant(radiance: Named("D65"))]"#,
+            r#"emitters: [
+                Spot(to_world: [Translate((1, 2, 3))]),
+                Directional(irradiance: Constant(2), direction: (0, 0, -2)),
+                Envmap(filename: "sky.exr", scale: 0.5, to_world: [Rotate(axis: (0, 1, 0), angle: 90)]),
+            ]"#,
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = prism()
+        .arg("export")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("scene.json")).unwrap()).unwrap();
+    let e = &json["emitters"];
+    let close = |v: &serde_json::Value, want: &[f64]| {
+        let got: Vec<f64> = v
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|r| match r.as_array() {
+                Some(row) => row.iter().map(|x| x.as_f64().unwrap()).collect(),
+                None => vec![r.as_f64().unwrap()],
+            })
+            .collect();
+        assert_eq!(got.len(), want.len());
+        assert!(
+            got.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-6),
+            "{got:?} vs {want:?}"
+        );
+    };
+    // The spot: Mitsuba's defaults, cutoff 20° and beam ¾ of it; intensity D65 tabulated.
+    assert_eq!(e[0]["type"], "spot");
+    assert_eq!(e[0]["cutoff_angle"], 20.0);
+    assert_eq!(e[0]["beam_width"], 15.0);
+    assert_eq!(e[0]["intensity"]["type"], "irregular");
+    #[rustfmt::skip]
+    close(&e[0]["to_world"], &[1., 0., 0., 1., 0., 1., 0., 2., 0., 0., 1., 3., 0., 0., 0., 1.]);
+    assert_eq!(e[1]["type"], "directional");
+    close(&e[1]["direction"], &[0.0, 0.0, -1.0]);
+    assert_eq!(e[1]["irradiance"]["value"], 2.0);
+    assert_eq!(e[2]["type"], "envmap");
+    assert_eq!(
+        e[2]["filename"].as_str().unwrap(),
+        dir.join("sky.exr")
+            .canonicalize()
+            .unwrap()
+            .to_str()
+            .unwrap()
+    );
+    assert_eq!(e[2]["scale"], 0.5);
+    // A 90° turn about +y: x → −z, z → x.
+    #[rustfmt::skip]
+    close(&e[2]["to_world"], &[0., 0., 1., 0., 0., 1., 0., 0., -1., 0., 0., 0., 0., 0., 0., 1.]);
+}
+
+// Dielectrics.
+
+/// Bad indices of refraction and roughness: exit code 2, the file and the field named, and the
+/// valid names listed where a name was misspelt.
+#[test]
+fn bad_dielectric_parameters() {
+    let glass = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "ior name",
+        &glass("Dielectric(int_ior: Named(\"watter\"))"),
+        &[],
+        &[
+            "scene.ron",
+            "materials.\"grey\".int_ior",
+            "watter",
+            "water",
+            "diamond",
+        ],
+    );
+    assert_input_error(
+        "glass name",
+        &glass("RoughDielectric(int_ior: Glass(\"BK8\"))"),
+        &[],
+        &["materials.\"grey\".int_ior", "BK8", "N-BK7", "N-SF11"],
+    );
+    assert_input_error(
+        "ior zero",
+        &glass("Dielectric(ext_ior: 0)"),
+        &[],
+        &["materials.\"grey\".ext_ior", "> 0"],
+    );
+    assert_input_error(
+        "ior nan",
+        &glass("ThinDielectric(int_ior: NaN)"),
+        &[],
+        &["materials.\"grey\".int_ior", "finite"],
+    );
+    assert_input_error(
+        "ior negative cauchy",
+        &glass("Dielectric(int_ior: Cauchy(a: -1.5, b: 0.004))"),
+        &[],
+        &["materials.\"grey\".int_ior", "> 0"],
+    );
+    assert_input_error(
+        "ior table too short",
+        &glass("Dielectric(int_ior: Spectrum(Tabulated([(450, 1.52), (650, 1.51)])))"),
+        &[],
+        &["materials.\"grey\".int_ior", "cover"],
+    );
+    assert_input_error(
+        "ior sellmeier pole",
+        &glass("Dielectric(int_ior: Sellmeier(b: (1, 0, 0), c: (0.25, 0, 0)))"),
+        &[],
+        &["materials.\"grey\".int_ior", "pole"],
+    );
+    assert_input_error(
+        "ior rgb",
+        &glass("Dielectric(int_ior: Spectrum(Rgb(1, 1, 1)))"),
+        &[],
+        &["materials.\"grey\".int_ior", "RGB"],
+    );
+    assert_input_error(
+        "ior misspelt form",
+        &glass("Dielectric(int_ior: Glas(\"BK7\"))"),
+        &[],
+        &["scene.ron:", "index of refraction"],
+    );
+    assert_input_error(
+        "alpha negative",
+        &glass("RoughDielectric(alpha: -0.1)"),
+        &[],
+        &["materials.\"grey\".alpha", "(0, 1]", "Dielectric"],
+    );
+    assert_input_error(
+        "alpha both",
+        &glass("RoughDielectric(alpha: 0.1, alpha_u: 0.2, alpha_v: 0.1)"),
+        &[],
+        &["materials.\"grey\"", "alpha_u"],
+    );
+    assert_input_error(
+        "alpha half",
+        &glass("RoughDielectric(alpha_u: 0.2)"),
+        &[],
+        &["materials.\"grey\"", "both `alpha_u` and `alpha_v`"],
+    );
+    assert_input_error(
+        "index matched",
+        &glass("RoughDielectric(int_ior: 1.333, ext_ior: \"water\")"),
+        &[],
+        &["materials.\"grey\"", "differ"],
+    );
+}
+
+/// Every IOR form a scene may write renders (Mitsuba's string names included).
+#[test]
+fn dielectric_forms_render() {
+    for m in [
+        "Dielectric()",
+        "Dielectric(int_ior: \"water\", ext_ior: \"air\")",
+        "Dielectric(int_ior: Value(1.7), ext_ior: 1)",
+        "RoughDielectric(distribution: Ggx, alpha_u: 0.05, alpha_v: 0.2, int_ior: Glass(\"fused silica\"))",
+        "RoughDielectric(alpha: Checkerboard(value0: 0.05, value1: 0.3), int_ior: Sellmeier(b: (1.03961212, 0.231792344, 1.01046945), c: (0.00600069867, 0.0200179144, 103.560653)))",
+        "ThinDielectric(int_ior: Cauchy(a: 1.5046, b: 0.0042), specular_transmittance: Rgb(0.9, 0.8, 0.7))",
+        "Dielectric(int_ior: Spectrum(Tabulated([(300, 1.53), (900, 1.50)])))",
+    ] {
+        let (code, err, written) = run(
+            "forms",
+            &GOOD.replace("Diffuse(reflectance: Constant(0.5))", m),
+            &[],
+        );
+        assert!(code == 0 && written, "{m}: exit {code}\n{err}");
+    }
+}
+
+/// `prism export` writes a dielectric's indices as Mitsuba takes them: numbers when the
+/// interface is not dispersive; otherwise both sides as spectra (a tabulated glass, a
+/// constant air) and `"dispersive": true`. Tolerance: 1e-6 on n (JSON round trip of f32).
+#[test]
+fn export_writes_dielectric_iors() {
+    let dir = workdir("export");
+    let scene = dir.join("scene.ron");
+    let text = GOOD
+        .replace(
+            r#"materials: { "grey": Diffuse(reflectance: Constant(0.5)) }"#,
+            r#"materials: {
+                "a": Dielectric(int_ior: "water"),
+                "b": RoughDielectric(distribution: Ggx, alpha_u: 0.05, alpha_v: 0.2, int_ior: Glass("BK7")),
+                "c": ThinDielectric(int_ior: 1.6, ext_ior: 1.1),
+            }"#,
+        )
+        .replace(
+            r#"shapes: [(shape: Sphere(center: (0, 0, 4)), material: "grey")]"#,
+            r#"shapes: [
+                (shape: Sphere(center: (0, 0, 4)), material: "a"),
+                (shape: Sphere(center: (1, 0, 4)), material: "b"),
+                (shape: Sphere(center: (2, 0, 4)), material: "c"),
+            ]"#,
+        );
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("exported");
+    let o = prism()
+        .arg("export")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("scene.json")).unwrap()).unwrap();
+    let m = &json["materials"];
+    let close = |v: &serde_json::Value, x: f64| (v.as_f64().unwrap() - x).abs() < 1e-6;
+    assert_eq!(m[0]["type"], "dielectric");
+    assert!(close(&m[0]["int_ior"], 1.333) && close(&m[0]["ext_ior"], 1.000277));
+    assert_eq!(m[0]["dispersive"], false);
+    assert_eq!(m[0]["specular_transmittance"]["type"], "constant");
+    assert_eq!(m[1]["type"], "roughdielectric");
+    assert_eq!(m[1]["distribution"], "ggx");
+    assert!(close(&m[1]["alpha_u"]["value"], 0.05) && close(&m[1]["alpha_v"]["value"], 0.2));
+    assert_eq!(m[1]["dispersive"], true);
+    assert_eq!(m[1]["ext_ior"]["type"], "constant");
+    assert!(close(&m[1]["ext_ior"]["value"], 1.000277));
+    let (nm, n) = (&m[1]["int_ior"]["wavelengths"], &m[1]["int_ior"]["values"]);
+    assert_eq!(m[1]["int_ior"]["type"], "irregular");
+    // N-BK7 at the helium d line, 587.56 nm: the table's neighbours bracket n_d = 1.51680.
+    let i = nm
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|w| w.as_f64().unwrap() >= 587.5)
+        .unwrap();
+    let (lo, hi) = (n[i].as_f64().unwrap(), n[i - 1].as_f64().unwrap());
+    assert!(lo < 1.51680 && 1.51680 < hi + 1e-5, "{lo} {hi}");
+    assert_eq!(m[2]["type"], "thindielectric");
+    assert!(close(&m[2]["int_ior"], 1.6) && close(&m[2]["ext_ior"], 1.1));
+}
+
+/// Plastics take a dielectric's index forms (numbers, names) but, as in Mitsuba, only
+/// constant ones: a dispersive index is an input error naming the field.
+#[test]
+fn plastic_iors() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    for m in [
+        "Plastic(int_ior: \"bk7\")",
+        "RoughPlastic(int_ior: Named(\"acrylic glass\"), ext_ior: \"water\")",
+        "Plastic(int_ior: 1.6, ext_ior: Spectrum(Constant(1.0)))",
+    ] {
+        let (code, err, written) = run("plastic ior", &with(m), &[]);
+        assert!(code == 0 && written, "{m}: exit {code}\n{err}");
+    }
+    assert_input_error(
+        "dispersive plastic",
+        &with("RoughPlastic(int_ior: Glass(\"SF11\"))"),
+        &[],
+        &[
+            "materials.\"grey\".int_ior",
+            "varies with wavelength",
+            "Dielectric",
+        ],
+    );
+    assert_input_error(
+        "cauchy plastic",
+        &with("Plastic(ext_ior: Cauchy(a: 1.3, b: 0.003))"),
+        &[],
+        &["materials.\"grey\".ext_ior", "one number"],
+    );
+    assert_input_error(
+        "unknown plastic ior",
+        &with("Plastic(int_ior: \"polypropylen\")"),
+        &[],
+        &["materials.\"grey\".int_ior", "polypropylene"],
+    );
 }

@@ -44,8 +44,9 @@ cargo test --release
 if [ "$embree" = 1 ]; then
     echo "== cargo clippy --features embree (release, all targets, warnings are errors)"
     cargo clippy --release --all-targets --features embree --quiet -- -D warnings
-    echo "== cargo test --release --features embree --test accel --test cli"
-    cargo test --release --features embree --test accel --test cli
+    # The backend against brute force, the CLI's --accel, and scale robustness (1e-4 to 1e5).
+    echo "== cargo test --release --features embree --test accel --test cli --test stability"
+    cargo test --release --features embree --test accel --test cli --test stability
 else
     echo
     echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"

@@ -11,6 +11,7 @@
 //! )
 //! ```
 
+pub mod ior;
 mod parse;
 pub mod spectrum;
 
@@ -22,6 +23,7 @@ use crate::integrator::{Dispersion, PathSettings};
 use crate::sampler::SamplerKind;
 use crate::spectrum::WavelengthSampling;
 use crate::texture::{TexFilter, Wrap};
+pub use ior::{IorConfig, IorForm};
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
 pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig};
@@ -257,19 +259,80 @@ pub enum MaterialConfig {
         specular_reflectance: SpectrumConfig,
     },
     // Dielectrics.
+    /// A smooth interface between two dielectrics (Mitsuba's `dielectric`): glass, water.
+    /// `int_ior` default `"bk7"` (1.5046), `ext_ior` default `"air"` (1.000277), the exterior
+    /// being the side the normal points to; `specular_reflectance` and `specular_transmittance`
+    /// (default `Constant(1)`) scale the two lobes and should stay 1 for physical realism.
+    ///
+    /// ```ron
+    /// Dielectric(int_ior: Glass("SF11"), ext_ior: Named("air"))
+    /// ```
+    Dielectric {
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
+    /// A rough dielectric interface (Mitsuba's `roughdielectric`, Walter et al. 2007):
+    /// `distribution` `Beckmann` (default) or `Ggx`; `alpha` (default 0.1) or both `alpha_u` and
+    /// `alpha_v` (anisotropic); IORs and specular factors as `Dielectric`.
+    ///
+    /// ```ron
+    /// RoughDielectric(distribution: Ggx, alpha: 0.05, int_ior: Glass("BK7"))
+    /// ```
+    RoughDielectric {
+        #[serde(default)]
+        distribution: Distribution,
+        #[serde(default)]
+        alpha: Option<FloatConfig>,
+        #[serde(default)]
+        alpha_u: Option<FloatConfig>,
+        #[serde(default)]
+        alpha_v: Option<FloatConfig>,
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
+    /// An infinitely thin dielectric slab, e.g. a window pane modelled as one sheet
+    /// (Mitsuba's `thindielectric`): specular reflection, undeflected transmission. Parameters
+    /// as `Dielectric`.
+    ///
+    /// ```ron
+    /// ThinDielectric(int_ior: Named("bk7"))
+    /// ```
+    ThinDielectric {
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
     // Plastics.
     /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
-    /// Defaults: diffuse_reflectance 0.5, specular_reflectance 1, int_ior 1.49
-    /// (polypropylene), ext_ior 1.000277 (air), nonlinear false.
+    /// Defaults: diffuse_reflectance 0.5, specular_reflectance 1, int_ior `"polypropylene"`
+    /// (1.49), ext_ior `"air"` (1.000277), nonlinear false. The indices are written as a
+    /// dielectric's (a number or a name) but must not vary with wavelength, as in Mitsuba.
     Plastic {
         #[serde(default = "half_grey")]
         diffuse_reflectance: SpectrumConfig,
         #[serde(default = "one_spectrum")]
         specular_reflectance: SpectrumConfig,
         #[serde(default = "polypropylene")]
-        int_ior: f32,
+        int_ior: IorConfig,
         #[serde(default = "air")]
-        ext_ior: f32,
+        ext_ior: IorConfig,
         #[serde(default)]
         nonlinear: bool,
     },
@@ -285,9 +348,9 @@ pub enum MaterialConfig {
         #[serde(default = "one_spectrum")]
         specular_reflectance: SpectrumConfig,
         #[serde(default = "polypropylene")]
-        int_ior: f32,
+        int_ior: IorConfig,
         #[serde(default = "air")]
-        ext_ior: f32,
+        ext_ior: IorConfig,
         #[serde(default)]
         nonlinear: bool,
     },
@@ -297,16 +360,25 @@ fn one_spectrum() -> SpectrumConfig {
     SpectrumConfig::Constant(1.0)
 }
 
-fn polypropylene() -> f32 {
-    1.49
-}
-
-fn air() -> f32 {
-    1.000_277
+fn polypropylene() -> IorConfig {
+    IorConfig::named("polypropylene")
 }
 
 fn point_one() -> f32 {
     0.1
+}
+
+// Dielectrics.
+fn bk7() -> IorConfig {
+    IorConfig::named("bk7")
+}
+
+fn air() -> IorConfig {
+    IorConfig::named("air")
+}
+
+fn unit() -> SpectrumConfig {
+    SpectrumConfig::Constant(1.0)
 }
 
 fn half_grey() -> SpectrumConfig {
@@ -437,6 +509,54 @@ pub enum EmitterConfig {
     },
     /// `Constant(radiance: Constant(1.0))`: radiance arriving from every direction.
     Constant { radiance: SpectrumConfig },
+    /// A spot light (Mitsuba's `spot`) at the origin of `to_world`, emitting along its local +z:
+    /// `Spot(intensity: Scaled(5, Named("D65")), cutoff_angle: 30, beam_width: 20,
+    /// to_world: [LookAt(origin: (0, 3, 0), target: (0, 0, 0), up: (0, 0, 1))])`.
+    /// Full `intensity` (W sr⁻¹ nm⁻¹, default `Named("D65")`) within `beam_width` degrees of the
+    /// axis (default ¾ of `cutoff_angle`), falling linearly in angle to 0 at `cutoff_angle`
+    /// (default 20, at most 90).
+    Spot {
+        #[serde(default = "d65")]
+        intensity: SpectrumConfig,
+        #[serde(default = "twenty")]
+        cutoff_angle: f32,
+        #[serde(default)]
+        beam_width: Option<f32>,
+        #[serde(default)]
+        to_world: Vec<TransformOp>,
+    },
+    /// A directional light at infinity (Mitsuba's `directional`):
+    /// `Directional(irradiance: Scaled(3, Named("D65")), direction: (0, -1, -1))`.
+    /// `irradiance` (W m⁻² nm⁻¹, default `Named("D65")`) is what a surface facing the light
+    /// receives; `direction` is the way the light travels, or give `to_world` instead (the light
+    /// then travels along its local +z, the default).
+    Directional {
+        #[serde(default = "d65")]
+        irradiance: SpectrumConfig,
+        #[serde(default)]
+        direction: Option<[f32; 3]>,
+        #[serde(default)]
+        to_world: Vec<TransformOp>,
+    },
+    /// An environment map (Mitsuba's `envmap`): `Envmap(filename: "textures/sky.exr", scale: 2)`.
+    /// A latitude-longitude image, twice as wide as high (OpenEXR, Radiance HDR or PNG; relative
+    /// to the scene file) of linear RGB radiance, +y up, uplifted per texel as an illuminant;
+    /// times `scale` (default 1); `to_world` may rotate it.
+    Envmap {
+        filename: String,
+        #[serde(default = "one")]
+        scale: f32,
+        #[serde(default)]
+        to_world: Vec<TransformOp>,
+    },
+}
+
+fn d65() -> SpectrumConfig {
+    SpectrumConfig::Named("D65".into())
+}
+
+fn twenty() -> f32 {
+    20.0
 }
 
 /// One step of a transform; a list applies its steps in order (the first acts first).

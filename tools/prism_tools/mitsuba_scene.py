@@ -104,6 +104,20 @@ def emitter(e: dict[str, Any]) -> dict[str, Any]:
         return {"type": "point", "position": e["position"], "intensity": spectrum(e["intensity"])}
     if kind == "constant":
         return {"type": "constant", "radiance": spectrum(e["radiance"])}
+    if kind == "spot":
+        return {
+            "type": "spot",
+            "intensity": spectrum(e["intensity"]),
+            "cutoff_angle": float(e["cutoff_angle"]),
+            "beam_width": float(e["beam_width"]),
+            "to_world": _matrix(e["to_world"]),
+        }
+    if kind == "directional":
+        return {"type": "directional", "direction": [float(c) for c in e["direction"]], "irradiance": spectrum(e["irradiance"])}
+    if kind == "envmap":
+        if e["filename"] is None:
+            raise Unsupported("an environment map not read from a file")
+        return {"type": "envmap", "filename": str(e["filename"]), "scale": float(e["scale"]), "to_world": _matrix(e["to_world"])}
     raise Unsupported(f"emitter type {kind}")
 
 
