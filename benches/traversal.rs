@@ -34,10 +34,16 @@ fn bumpy_sphere(triangles: usize) -> Mesh {
         let th = PI * i as f32 / nv as f32;
         for j in 0..nu {
             let ph = 2.0 * PI * j as f32 / nu as f32;
-            let n = Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin());
-            let bump = 0.06 * (7.0 * th).sin() * (5.0 * ph).cos()
-                + 0.03 * (23.0 * th + 1.0).sin() * (19.0 * ph).sin()
-                + 0.012 * (71.0 * th).cos() * (67.0 * ph + 0.5).sin();
+            // Exact poles (sin π is not 0 in floats), so each pole's row of vertices coincides.
+            let n = match i {
+                0 => Vec3::Y,
+                _ if i == nv => -Vec3::Y,
+                _ => Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()),
+            };
+            let bump = th.sin()
+                * (0.06 * (7.0 * th).sin() * (5.0 * ph).cos()
+                    + 0.03 * (23.0 * th + 1.0).sin() * (19.0 * ph).sin()
+                    + 0.012 * (71.0 * th).cos() * (67.0 * ph + 0.5).sin());
             m.positions.push(n * (1.0 + bump));
         }
     }

@@ -171,11 +171,14 @@ def mitsuba_ladder(
     threads: int,
     save_dir: pathlib.Path,
     seed: int = 1,
+    warmup: bool = True,
 ) -> dict:
     """One timed Mitsuba render per spp of `spps`, images in save_dir/spp_N.exr; render_s is
-    keyed by str(spp)."""
+    keyed by str(spp). `warmup` False skips the untimed warm-ups (for references)."""
     cmd = [python, ROOT / "tools/bench/mitsuba_worker.py", export_dir, "--variant", variant,
            "--ladder", ",".join(map(str, spps)), "--save-dir", save_dir, "--threads", str(threads), "--seed", str(seed)]
+    if not warmup:
+        cmd.append("--no-warmup")
     code, out, err, _, _ = measured(cmd, env=mitsuba_env())
     try:
         return json.loads(out.strip().splitlines()[-1])

@@ -28,12 +28,16 @@ def bumpy_sphere(triangles: int) -> tuple[np.ndarray, np.ndarray]:
     phi = np.linspace(0.0, 2 * math.pi, nu, endpoint=False)
     th, ph = np.meshgrid(theta, phi, indexing="ij")
     n = np.stack([np.sin(th) * np.cos(ph), np.cos(th), np.sin(th) * np.sin(ph)], axis=-1)
-    bump = (
+    # Scaled by sin θ so the bumps vanish at the poles, where each grid row's vertices coincide:
+    # the surface stays closed there.
+    bump = np.sin(th) * (
         0.06 * np.sin(7 * th) * np.cos(5 * ph)
         + 0.03 * np.sin(23 * th + 1.0) * np.sin(19 * ph)
         + 0.012 * np.cos(71 * th) * np.sin(67 * ph + 0.5)
     )
-    pos = (n * (1.0 + bump)[..., None]).reshape(-1, 3).astype("<f4")
+    pos = n * (1.0 + bump)[..., None]
+    pos[0], pos[-1] = (0.0, 1.0, 0.0), (0.0, -1.0, 0.0)  # exact poles (sin π is not 0 in floats)
+    pos = pos.reshape(-1, 3).astype("<f4")
     i = np.arange(nv)[:, None]
     j = np.arange(nu)[None, :]
     a = i * nu + j

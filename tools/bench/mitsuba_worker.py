@@ -38,6 +38,7 @@ def main() -> None:
     ap.add_argument("--spp", type=int, help="spp of the timed renders (or give --ladder)")
     ap.add_argument("--ladder", help="comma-separated spp list: one timed render at each")
     ap.add_argument("--save-dir", type=pathlib.Path, help="with --ladder: write spp_N.exr here")
+    ap.add_argument("--no-warmup", action="store_true", help="with --ladder: no warm-up renders (for untimed references)")
     ap.add_argument("--threads", type=int)
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--seed", type=int, default=1)
@@ -65,7 +66,8 @@ def main() -> None:
         args.save_dir.mkdir(parents=True, exist_ok=True)
         times = {}
         for spp in ladder:
-            np.asarray(mi.render(scene, spp=spp, seed=args.seed + 1000))  # warm-up (LLVM compiles)
+            if not args.no_warmup:
+                np.asarray(mi.render(scene, spp=spp, seed=args.seed + 1000))  # warm-up (LLVM compiles)
             t = time.perf_counter()
             img = np.asarray(mi.render(scene, spp=spp, seed=args.seed))
             times[spp] = time.perf_counter() - t
