@@ -113,6 +113,23 @@ fn make_rays(mesh: &Mesh, reference: &Accel, n: usize) -> RaySets {
     }
 }
 
+/// Embree without the filter that applies prism's triangle test: what that exactness costs.
+#[cfg(feature = "embree")]
+fn unfiltered_embree(prims: &[Prim]) -> Option<(String, Accel, f64)> {
+    let t = Instant::now();
+    let a = Accel::Embree(prism::accel::Embree::build_with(prims.to_vec(), false));
+    Some((
+        "Embree, its own triangle test".into(),
+        a,
+        t.elapsed().as_secs_f64(),
+    ))
+}
+
+#[cfg(not(feature = "embree"))]
+fn unfiltered_embree(_: &[Prim]) -> Option<(String, Accel, f64)> {
+    None
+}
+
 /// Best of 3 of tracing every ray; returns (Mrays/s, number of hits).
 fn throughput(rays: &[Ray], parallel: bool, trace: impl Fn(&Ray) -> bool + Sync) -> (f64, usize) {
     let mut best = f64::INFINITY;
@@ -159,25 +176,15 @@ fn main() {
                 geom: shape.prim_geom(i),
             })
             .collect();
-        let mut built: Vec<(String, Accel, f64)> = kinds
+        let built: Vec<(String, Accel, f64)> = kinds
             .iter()
             .map(|&k| {
                 let t = Instant::now();
                 let a = Accel::build(prims.clone(), k);
                 (format!("{k:?}"), a, t.elapsed().as_secs_f64())
             })
+            .chain(unfiltered_embree(&prims))
             .collect();
-        // Embree without the filter that applies prism's triangle test: what that exactness costs.
-        #[cfg(feature = "embree")]
-        {
-            let t = Instant::now();
-            let a = Accel::Embree(prism::accel::Embree::build_with(prims.clone(), false));
-            built.push((
-                "Embree, its own triangle test".into(),
-                a,
-                t.elapsed().as_secs_f64(),
-            ));
-        }
         let rays = make_rays(&mesh, &built[0].1, n_rays);
         for (kind, accel, build_s) in &built {
             let sets: [(&str, &[Ray], bool); 3] = [
