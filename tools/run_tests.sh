@@ -22,7 +22,9 @@ fi
 
 # Embree 3 for the `embree` feature: present when its pkg-config file or library is there.
 have_embree() {
-    pkg-config --exists embree3 2>/dev/null || ldconfig -p 2>/dev/null | grep -q 'libembree3\.so '
+    # No `grep -q`: it stops reading early, ldconfig then dies of SIGPIPE, and pipefail turns
+    # that into a failure.
+    pkg-config --exists embree3 2>/dev/null || ldconfig -p 2>/dev/null | grep 'libembree3\.so ' >/dev/null
 }
 if ! have_embree && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     echo "== installing libembree-dev (apt-get) for the embree feature"

@@ -22,7 +22,8 @@ fi
 mkdir -p "$out"
 py=${PYTHON:-tools/.venv/bin/python}
 features=()
-if ldconfig -p 2>/dev/null | grep -q 'libembree3\.so '; then features=(--features embree); fi
+# (No `grep -q`: under pipefail, ldconfig's SIGPIPE would read as "not installed".)
+if ldconfig -p 2>/dev/null | grep 'libembree3\.so ' >/dev/null; then features=(--features embree); fi
 
 echo "== machine: $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "== 1. bench.py"
