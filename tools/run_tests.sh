@@ -24,7 +24,8 @@ fi
 have_embree() {
     # No `grep -q`: it stops reading early, ldconfig then dies of SIGPIPE, and pipefail turns
     # that into a failure.
-    pkg-config --exists embree3 2>/dev/null || ldconfig -p 2>/dev/null | grep 'libembree3\.so ' >/dev/null
+    pkg-config --exists embree3 2>/dev/null || ldconfig -p 2>/dev/null | grep 'libembree3\.so ' >/dev/null ||
+        compgen -G '/usr/lib/*/libembree3.so' >/dev/null
 }
 if ! have_embree && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     echo "== installing libembree-dev (apt-get) for the embree feature"
