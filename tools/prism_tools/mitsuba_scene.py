@@ -25,6 +25,7 @@ import pathlib
 from typing import Any
 
 import mitsuba as mi
+import numpy as np
 
 #: Mitsuba's spectral variants integrate the CIE observer over this range (nm).
 MITSUBA_RANGE = (360.0, 830.0)
@@ -72,17 +73,23 @@ def spectrum(s: dict[str, Any]) -> dict[str, Any]:
     raise Unsupported(f"spectrum type {s['type']!r}")
 
 
-def _bitmap(t: dict[str, Any]) -> dict[str, Any]:
+def _bitmap(t: dict[str, Any], scalar: bool = False) -> dict[str, Any]:
     if not t.get("filename"):
         raise Unsupported("a bitmap texture without a file (generated in memory)")
-    return {
-        "type": "bitmap",
-        "filename": str(t["filename"]),
-        "raw": bool(t["raw"]),
-        "filter_type": t["filter"],
-        "wrap_mode": t["wrap"],
-        "to_uv": _to_uv(t),
-    }
+    d = {"type": "bitmap", "raw": bool(t["raw"]), "filter_type": t["filter"], "wrap_mode": t["wrap"], "to_uv": _to_uv(t)}
+    if not scalar:
+        d["filename"] = str(t["filename"])
+        return d
+    # A scalar texture is the image's luminance (prism, and Mitsuba's RGB variants). Mitsuba's
+    # spectral variants cannot look up a scalar in a colour image, so Mitsuba's own conversion
+    # (sRGB decoding unless raw, then luminance) makes a one-channel linear image for it.
+    image = mi.Bitmap(str(t["filename"]))
+    if t["raw"]:
+        image.set_srgb_gamma(False)
+    y = image.convert(mi.Bitmap.PixelFormat.Y, mi.Struct.Type.Float32, srgb_gamma=False)
+    texels = np.array(y, dtype=np.float32)
+    d.update(data=mi.TensorXf(texels.reshape(texels.shape[0], texels.shape[1], 1)), raw=True)
+    return d
 
 
 def texture(t: dict[str, Any]) -> dict[str, Any]:
@@ -104,7 +111,7 @@ def float_texture(t: dict[str, Any]) -> float | dict[str, Any]:
         # opacities and roughnesses use); prism uses the first rule for both, so swap here.
         return {"type": "checkerboard", "color0": float(t["value1"]), "color1": float(t["value0"]), "to_uv": _to_uv(t)}
     if t["type"] == "bitmap":
-        return _bitmap(t)
+        return _bitmap(t, scalar=True)
     raise Unsupported(f"float texture type {t['type']!r}")
 
 

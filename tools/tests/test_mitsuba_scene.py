@@ -104,3 +104,22 @@ def test_unknown_parts_are_refused():
         ms.material({"type": "hair"})
     with pytest.raises(ms.Unsupported, match="360"):
         ms.check_spectral({"spectral": {"range": [400.0, 700.0]}})
+
+
+def test_scalar_bitmap_is_the_decoded_luminance(tmp_path):
+    # A 2×1 sRGB PNG: texel values 0.5 (encoded 188) grey and pure 8-bit red.
+    import OpenImageIO as oiio
+
+    path = tmp_path / "t.png"
+    out = oiio.ImageOutput.create(str(path))
+    out.open(str(path), oiio.ImageSpec(2, 1, 3, "uint8"))
+    out.write_image(np.array([[[188, 188, 188], [255, 0, 0]]], dtype=np.uint8))
+    out.close()
+    t = {"type": "bitmap", "filename": str(path), "raw": False, "filter": "nearest", "wrap": "clamp", "uv_scale": [1.0, 1.0], "uv_offset": [0.0, 0.0]}
+    tex = mi.load_dict(ms.float_texture(t))
+    si = mi.SurfaceInteraction3f()
+    decoded = ((188 / 255 + 0.055) / 1.055) ** 2.4
+    si.uv = mi.ScalarPoint2f(0.25, 0.5)
+    assert tex.eval_1(si) == pytest.approx(decoded, rel=1e-4)
+    si.uv = mi.ScalarPoint2f(0.75, 0.5)
+    assert tex.eval_1(si) == pytest.approx(0.2126, rel=2e-3)  # Rec. 709 luminance of red
