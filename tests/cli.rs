@@ -306,3 +306,35 @@ fn bad_conductors() {
         &["materials.\"grey\"", "not both"],
     );
 }
+
+#[test]
+fn unreadable_textures() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "missing texture",
+        &with("Diffuse(reflectance: Bitmap(path: \"textures/nope.png\"))"),
+        &[],
+        &["materials.\"grey\".reflectance", "nope.png"],
+    );
+    let dir = workdir("corrupt-texture-data");
+    let bad = dir.join("corrupt.png");
+    std::fs::write(&bad, b"\x89PNG\r\n\x1a\nthis is not a PNG").unwrap();
+    assert_input_error(
+        "corrupt texture",
+        &with(&format!(
+            "Diffuse(reflectance: Bitmap(path: {:?}))",
+            bad.to_str().unwrap()
+        )),
+        &[],
+        &["materials.\"grey\".reflectance", "corrupt.png"],
+    );
+    assert_input_error(
+        "corrupt opacity texture",
+        &with(&format!(
+            "Mask(opacity: Bitmap(path: {:?}), bsdf: Diffuse())",
+            bad.to_str().unwrap()
+        )),
+        &[],
+        &["materials.\"grey\".opacity", "corrupt.png"],
+    );
+}

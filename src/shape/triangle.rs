@@ -1,6 +1,7 @@
 //! Watertight ray/triangle intersection (Woop, Benthin & Wald, JCGT 2013): rays that hit a shared
 //! edge or vertex hit at least one of the triangles, so meshes have no cracks for light to leak.
 
+use crate::math::float::gamma;
 use crate::ray::Ray;
 use glam::Vec3;
 
@@ -103,11 +104,44 @@ pub fn intersect(s: &RayShear, t_max: f32, v: &[Vec3; 3]) -> Option<TriHit> {
     if t.is_nan() || t <= 0.0 {
         return None;
     }
+    // A t this close to 0 may be rounding error rather than a hit: a ray leaving a large,
+    // slightly non-planar or rotated surface would otherwise re-hit it (shadow acne). Reject t
+    // unless it exceeds a conservative bound on its own error, propagated through the shear,
+    // the edge functions and the scaled depths (the error analysis of Pharr, Jakob & Humphreys,
+    // PBR 4th ed., §6.8.6). Only runs for hits, and only costs arithmetic.
+    if t < near_hit_error(ax, ay, bx, by, cx, cy, [az, bz, cz], [u, w_, w], inv) {
+        return None;
+    }
     Some(TriHit {
         t,
         b1: w_ * inv,
         b2: w * inv,
     })
+}
+
+/// Upper bound on the rounding error of a hit's t (see `intersect`).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn near_hit_error(
+    ax: f32,
+    ay: f32,
+    bx: f32,
+    by: f32,
+    cx: f32,
+    cy: f32,
+    z: [f32; 3],
+    e: [f32; 3],
+    inv_det: f32,
+) -> f32 {
+    let max_z = z[0].abs().max(z[1].abs()).max(z[2].abs());
+    let max_x = ax.abs().max(bx.abs()).max(cx.abs());
+    let max_y = ay.abs().max(by.abs()).max(cy.abs());
+    let max_e = e[0].abs().max(e[1].abs()).max(e[2].abs());
+    let dz = gamma(3) * max_z;
+    let dx = gamma(5) * (max_x + max_z);
+    let dy = gamma(5) * (max_y + max_z);
+    let de = 2.0 * (gamma(2) * max_x * max_y + dy * max_x + dx * max_y);
+    3.0 * (gamma(3) * max_e * max_z + de * max_z + dz * max_e) * inv_det.abs()
 }
 
 #[cfg(test)]
@@ -133,6 +167,41 @@ mod tests {
         );
         let behind = Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::Z);
         assert!(intersect(&RayShear::new(&behind), f32::INFINITY, &tri).is_none());
+    }
+
+    /// Rays leaving a point of a large, rotated triangle (interpolated from its vertices, so off
+    /// its plane by rounding) must not re-hit it: their t would be pure rounding error.
+    #[test]
+    fn no_self_hits_leaving_a_rotated_triangle() {
+        let rot = glam::Quat::from_axis_angle(Vec3::new(1.0, 0.3, -0.2).normalize(), 1.3);
+        let tri = [
+            rot * Vec3::new(-4.0, -4.0, 0.0),
+            rot * Vec3::new(4.0, -4.0, 0.0),
+            rot * Vec3::new(4.0, 4.0, 0.0),
+        ];
+        let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
+        let mut state = 7u32;
+        let mut next = || {
+            state = state.wrapping_mul(747796405).wrapping_add(2891336453);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mut self_hits = 0;
+        for _ in 0..20000 {
+            let (b1, b2) = (next() * 0.5, next() * 0.5);
+            let p = tri[0] * (1.0 - b1 - b2) + tri[1] * b1 + tri[2] * b2;
+            let z = 0.1 + 0.9 * next();
+            let phi = std::f32::consts::TAU * next();
+            let frame = crate::math::frame::Frame::from_normal(n);
+            let r = (1.0 - z * z).sqrt();
+            for side in [1.0f32, -1.0] {
+                let d = frame.to_world(Vec3::new(r * phi.cos(), r * phi.sin(), z * side));
+                let ray = Ray::new(p, d);
+                if intersect(&RayShear::new(&ray), f32::INFINITY, &tri).is_some() {
+                    self_hits += 1;
+                }
+            }
+        }
+        assert_eq!(self_hits, 0, "rays re-hit the triangle they leave");
     }
 
     #[test]
