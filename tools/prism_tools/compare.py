@@ -88,13 +88,13 @@ def compare(scene: str | pathlib.Path, settings: Settings | None = None, prism_b
     prism_bin = prism_bin or renderers.prism_binary()
     with tempfile.TemporaryDirectory(prefix="prism-export-") as tmp:
         exported = renderers.export(prism_bin, scene, pathlib.Path(tmp))
+        channels = renderers.channels(exported)
         t0 = time.perf_counter()
         mitsuba = renderers.MitsubaRenderer(exported, settings.spp)
-        mitsuba_renders = [mitsuba.render(seed) for seed in range(settings.renders)]
+        mitsuba_renders = [mitsuba.render(seed, channels) for seed in range(settings.renders)]
         t1 = time.perf_counter()
-    prism_renders = [renderers.render_prism(prism_bin, scene, seed, settings.spp) for seed in range(settings.renders)]
+    prism_renders = [renderers.render_prism(prism_bin, scene, seed, settings.spp, channels) for seed in range(settings.renders)]
     t2 = time.perf_counter()
-    channels = renderers.CHANNELS
     pm, pci = stats.mean_ci(prism_renders)
     mm, mci = stats.mean_ci(mitsuba_renders)
     prism_image, mitsuba_image = np.mean(prism_renders, axis=0), np.mean(mitsuba_renders, axis=0)
@@ -106,7 +106,7 @@ def compare(scene: str | pathlib.Path, settings: Settings | None = None, prism_b
         prism_ci=pci,
         mitsuba_mean=mm,
         mitsuba_ci=mci,
-        rel_mse=stats.rel_mse(prism_image[..., :3], mitsuba_image[..., :3]),
+        rel_mse=stats.rel_mse(prism_image, mitsuba_image),
         bias=stats.bias_test(mitsuba_renders, prism_renders, channels, grid=settings.grid, alpha=settings.alpha),
         prism_image=prism_image,
         mitsuba_image=mitsuba_image,

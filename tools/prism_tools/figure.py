@@ -14,6 +14,7 @@ import numpy as np  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
 from .images import srgb_encode  # noqa: E402
+from .renderers import xyz_to_srgb_matrix  # noqa: E402
 
 #: Colour scale of the per-pixel map: ±20% (per-pixel noise at test settings is of that order).
 PIXEL_RANGE = 0.2
@@ -25,22 +26,33 @@ def _display(rgb: np.ndarray, white: float) -> np.ndarray:
     return np.clip(srgb_encode(rgb / white), 0.0, 1.0)
 
 
+def _rgb_and_y(image: np.ndarray, channels: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Linear sRGB and luminance from whichever of R, G, B / X, Y, Z a comparison has."""
+    if "R" in channels:
+        rgb = image[..., [channels.index(c) for c in "RGB"]]
+    else:
+        rgb = image[..., [channels.index(c) for c in "XYZ"]] @ xyz_to_srgb_matrix().T
+    y = image[..., channels.index("Y")] if "Y" in channels else rgb @ np.array([0.2126, 0.7152, 0.0722])
+    return rgb, y
+
+
 def write_figure(result, path: str | pathlib.Path) -> None:
     """Writes the figure of a `compare.Comparison` as PNG."""
-    y = result.channels.index("Y")
-    prism, mitsuba = result.prism_image, result.mitsuba_image
-    white = max(float(np.percentile(mitsuba[..., y], 99.5)), 1e-6)
+    prism, prism_y = _rgb_and_y(result.prism_image, result.channels)
+    mitsuba, mitsuba_y = _rgb_and_y(result.mitsuba_image, result.channels)
+    white = max(float(np.percentile(mitsuba_y, 99.5)), 1e-6)
     with np.errstate(divide="ignore", invalid="ignore"):
-        rel = np.where(mitsuba[..., y] > 0, prism[..., y] / mitsuba[..., y] - 1.0, 0.0)
+        rel = np.where(mitsuba_y > 0, prism_y / mitsuba_y - 1.0, 0.0)
     bias = result.bias
-    tile_rel = bias.rel_diff[..., y]
+    # The tile map shows Y, or G when the scene writes no XYZ.
+    tile_rel = bias.rel_diff[..., result.channels.index("Y" if "Y" in result.channels else "G")]
     flagged = (bias.p_adjusted < bias.alpha).any(axis=-1)
 
     h, w = mitsuba.shape[:2]
     fig, axes = plt.subplots(1, 4, figsize=(16, 4.4 * h / w + 0.6), constrained_layout=True)
-    axes[0].imshow(_display(prism[..., :3], white))
+    axes[0].imshow(_display(prism, white))
     axes[0].set_title("prism")
-    axes[1].imshow(_display(mitsuba[..., :3], white))
+    axes[1].imshow(_display(mitsuba, white))
     axes[1].set_title("Mitsuba 3")
     im = axes[2].imshow(rel, cmap="RdBu_r", vmin=-PIXEL_RANGE, vmax=PIXEL_RANGE)
     axes[2].set_title("prism / Mitsuba − 1 (Y, per pixel)")

@@ -31,8 +31,19 @@ def export(prism_bin: pathlib.Path, scene: pathlib.Path, out_dir: pathlib.Path) 
     return ms.load(out_dir)
 
 
-def render_prism(prism_bin: pathlib.Path, scene: pathlib.Path, seed: int, spp: int | None = None) -> np.ndarray:
-    """One prism render: (height, width, 6) in `CHANNELS` order."""
+def channels(exported: dict) -> list[str]:
+    """The channels of `CHANNELS` the scene writes (Mitsuba gives all of them)."""
+    out = exported["outputs"]
+    names = (["R", "G", "B"] if out["rgb"] else []) + (["X", "Y", "Z"] if out["xyz"] else [])
+    if not names:
+        raise ms.Unsupported("the scene writes neither RGB nor XYZ, the channels Mitsuba's film has")
+    return names
+
+
+def render_prism(
+    prism_bin: pathlib.Path, scene: pathlib.Path, seed: int, spp: int | None = None, names: list[str] = CHANNELS
+) -> np.ndarray:
+    """One prism render: (height, width, len(names)), channels `names` in order."""
     with tempfile.TemporaryDirectory(prefix="prism-render-") as tmp:
         out = pathlib.Path(tmp) / "render.exr"
         cmd = [str(prism_bin), "render", str(scene), "-o", str(out), "-q", "--seed", str(seed)]
@@ -40,7 +51,7 @@ def render_prism(prism_bin: pathlib.Path, scene: pathlib.Path, seed: int, spp: i
             cmd += ["--spp", str(spp)]
         _run(cmd)
         ch = images.read_channels(out)
-    return np.stack([ch[c] for c in CHANNELS], axis=-1).astype(np.float64)
+    return np.stack([ch[c] for c in names], axis=-1).astype(np.float64)
 
 
 class MitsubaRenderer:
@@ -56,11 +67,13 @@ class MitsubaRenderer:
         self.scene = mi.load_dict(ms.convert(exported, spp=self.spp))
         # XYZ from Mitsuba's linear sRGB, by the inverse of the matrix its film applies.
         self._srgb_to_xyz = np.linalg.inv(xyz_to_srgb_matrix())
+        self._scale = y_normalization_correction()
 
-    def render(self, seed: int) -> np.ndarray:
-        """(height, width, 6) in `CHANNELS` order."""
-        rgb = np.array(self._mi.render(self.scene, seed=seed, spp=self.spp), dtype=np.float64)[..., :3]
-        return np.concatenate([rgb, rgb @ self._srgb_to_xyz.T], axis=-1)
+    def render(self, seed: int, names: list[str] = CHANNELS) -> np.ndarray:
+        """(height, width, len(names)), channels `names` (of `CHANNELS`) in order."""
+        rgb = self._scale * np.array(self._mi.render(self.scene, seed=seed, spp=self.spp), dtype=np.float64)[..., :3]
+        all6 = np.concatenate([rgb, rgb @ self._srgb_to_xyz.T], axis=-1)
+        return all6[..., [CHANNELS.index(n) for n in names]]
 
 
 def xyz_to_srgb_matrix() -> np.ndarray:
@@ -69,6 +82,19 @@ def xyz_to_srgb_matrix() -> np.ndarray:
 
     columns = [np.array(mi.xyz_to_srgb(mi.ScalarColor3f(*e))) for e in np.eye(3)]
     return np.stack(columns, axis=1)
+
+
+def y_normalization_correction() -> float:
+    """Puts Mitsuba's colours on prism's (and colour-science's) scale, where a spectrum that is 1
+    everywhere has Y = 1. Mitsuba divides by a constant, 1 / MI_CIE_Y_NORMALIZATION = 106.750,
+    that is 0.1% smaller than the integral of its own ȳ over 360–830 nm (106.857), so its Y of
+    that spectrum is 1.001. The factor is that ratio's inverse, from Mitsuba's own ȳ (piecewise
+    linear between whole nanometres, so the trapezoid rule on a 0.25 nm grid is exact)."""
+    import mitsuba as mi
+
+    nm = np.linspace(360.0, 830.0, 4 * 470 + 1)
+    ybar = np.array([float(np.asarray(mi.cie1931_y(float(w))).ravel()[0]) for w in nm])
+    return 1.0 / (np.trapezoid(ybar, nm) * mi.MI_CIE_Y_NORMALIZATION)
 
 
 def _run(cmd: list[str]) -> None:

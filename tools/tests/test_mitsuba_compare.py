@@ -1,14 +1,13 @@
-"""Every comparison scene (scenes/materials/*.ron, scenes/cornell.ron) rendered by prism and by
-Mitsuba 3 (scalar_spectral, on the conversion of prism's own export) must have the same
-expectation.
+"""Every comparison scene (scenes/materials/*.ron, scenes/cornell.ron, tests/data/mitsuba/*.ron)
+rendered by prism and by Mitsuba 3 (scalar_spectral, on the conversion of prism's own export)
+must have the same expectation.
 
 Tolerance: none in the usual sense. Each renderer makes K independent renders; per 8×8 tile and
 channel (R, G, B, X, Y, Z) Welch's t-test compares the K tile means of each, and Holm's
-correction over all 384 tests keeps the chance that noise alone fails a scene below
-ALPHA = 1e-3 (about 1% for the whole suite). Fewer samples make the test less sensitive, never
-flaky. At these settings a 3% offset in a single tile of diffuse.ron is caught (see
-test_catches_a_small_local_bias), so a failure here is a bug in prism or its export: report it,
-do not loosen the test.
+correction over all 384 tests keeps the chance that noise alone fails a scene below alpha = 1e-3
+(about 1.5% for the whole suite). Fewer samples make the test less sensitive, never flaky. At
+these settings a sphere 3% darker is caught (test_catches_a_small_local_bias), so a failure here
+is a bug in prism or its export: report it, do not loosen the test.
 
 Scenes with a dispersive dielectric are skipped: Mitsuba's dielectrics take a single index of
 refraction (dispersion is checked elsewhere).
@@ -49,8 +48,8 @@ def test_prism_matches_mitsuba(scene: pathlib.Path, prism_bin, tmp_path):
 
 def test_catches_a_small_local_bias(prism_bin, tmp_path):
     """The suite's power, with Mitsuba against itself: the sphere of diffuse.ron 3% darker in the
-    second set of renders (its reflectance times 0.97, only there) must fail the bias test at
-    the CI settings, and the unchanged scene (independent seeds) must pass."""
+    second set of renders (its reflectance times 0.97, nothing else changed; independent seeds)
+    must fail the bias test at the CI settings. (That noise alone passes is test_stats' job.)"""
     settings = CI["default"]
     exported = renderers.export(prism_bin, renderers.ROOT / "scenes" / "materials" / "diffuse.ron", tmp_path)
     darker = copy.deepcopy(exported)
@@ -60,12 +59,10 @@ def test_catches_a_small_local_bias(prism_bin, tmp_path):
 
     reference = renderers.MitsubaRenderer(exported, settings.spp)
     base = [reference.render(seed) for seed in range(settings.renders)]
-    same = [reference.render(seed) for seed in range(100, 100 + settings.renders)]
     changed = renderers.MitsubaRenderer(darker, settings.spp)
     biased = [changed.render(seed) for seed in range(100, 100 + settings.renders)]
 
-    null = stats.bias_test(base, same, renderers.CHANNELS, alpha=settings.alpha)
-    assert not null.biased, null.worst
     hit = stats.bias_test(base, biased, renderers.CHANNELS, alpha=settings.alpha)
     assert hit.biased, hit.worst
-    assert np.min(hit.rel_diff[hit.p_adjusted < settings.alpha]) < -0.01
+    # Flagged where the sphere got darker (prism's side of the test is the second argument).
+    assert np.all(hit.rel_diff[hit.p_adjusted < settings.alpha] < 0), hit.worst
