@@ -263,6 +263,8 @@ def convert(scene: dict[str, Any], spp: int | None = None, seed: int = 0) -> dic
     cam, integ = scene["camera"], scene["integrator"]
     if integ["type"] != "path":
         raise Unsupported(f"integrator {integ['type']!r}")
+    if integ.get("clamp") is not None:
+        raise Unsupported(f"the integrator clamps radiance at {integ['clamp']} (biased; Mitsuba's path integrator does not clamp)")
     out: dict[str, Any] = {
         "type": "scene",
         "integrator": {

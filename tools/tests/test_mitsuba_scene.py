@@ -118,6 +118,10 @@ def test_dispersive_dielectric_is_refused():
 def test_unknown_parts_are_refused():
     with pytest.raises(ms.Unsupported, match="hair"):
         ms.material({"type": "hair"})
+    clamped = exported()
+    clamped["integrator"]["clamp"] = 20.0
+    with pytest.raises(ms.Unsupported, match="clamp"):
+        ms.convert(clamped)
     with pytest.raises(ms.Unsupported, match="360"):
         ms.check_spectral({"spectral": {"range": [400.0, 700.0]}})
 
