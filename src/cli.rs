@@ -58,6 +58,10 @@ pub struct RenderArgs {
     /// Worker threads. Default: one per core.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Opt-in firefly clamp: cut each sample's radiance to at most this (overrides the
+    /// scene's integrator.clamp). Biased: for previews, never for ground truth.
+    #[arg(long)]
+    pub clamp: Option<f32>,
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -101,6 +105,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         if let Some(seed) = args.seed {
             cfg.sampler.seed = seed;
         }
+        if args.clamp.is_some() {
+            cfg.integrator.clamp = args.clamp;
+        }
     })?;
     let load_s = t_load.elapsed().as_secs_f64();
     for w in &job.warnings {
@@ -134,7 +141,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     }
     let msps = stats.samples as f64 / render_s / 1e6;
     eprintln!(
-        "rendered {}x{} at {} spp ({:.1} Msamples) in {:.2} s ({:.2} Msamples/s, {} thread{}); scene load {:.2} s; {} invalid samples -> {}",
+        "rendered {}x{} at {} spp ({:.1} Msamples) in {:.2} s ({:.2} Msamples/s, {} thread{}); scene load {:.2} s; {} invalid samples{} -> {}",
         s.width,
         s.height,
         s.spp,
@@ -145,6 +152,10 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         if pool.current_num_threads() == 1 { "" } else { "s" },
         load_s,
         stats.invalid_samples,
+        match s.path.clamp {
+            Some(c) => format!(", {} clamped at {c}", stats.clamped_samples),
+            None => String::new(),
+        },
         out.display()
     );
     Ok(())
@@ -183,9 +194,16 @@ fn metadata(
         (
             "prism:integrator".into(),
             format!(
-                "path max_depth {} rr_depth {} hide_emitters {}",
-                s.path.max_depth, s.path.rr_depth, s.path.hide_emitters
+                "path max_depth {} rr_depth {} hide_emitters {} clamp {}",
+                s.path.max_depth,
+                s.path.rr_depth,
+                s.path.hide_emitters,
+                s.path.clamp.map_or("off".into(), |c| c.to_string())
             ),
+        ),
+        (
+            "prism:clampedSamples".into(),
+            stats.clamped_samples.to_string(),
         ),
         (
             "prism:invalidSamples".into(),

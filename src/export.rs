@@ -11,7 +11,7 @@
 //!   "camera": {"to_world", "fov_x_deg", "near_clip", "far_clip"},
 //!   "film": {"width", "height", "filter": {"type": "box", "radius"} | {"type": "gaussian", "stddev"}},
 //!   "sampler": {"type": "independent" | "sobol", "spp", "seed"},
-//!   "integrator": {"type": "path", "max_depth", "rr_depth", "hide_emitters"},
+//!   "integrator": {"type": "path", "max_depth", "rr_depth", "hide_emitters", "clamp": null | radiance},
 //!   "spectral": {"wavelengths", "range": [lo, hi], "sampling", "dispersion"},
 //!   "outputs": {"rgb", "xyz", "bands": null | {"count", "range"}},
 //!   "materials": [material...], "shapes": [shape...], "emitters": [emitter...] }
@@ -23,7 +23,11 @@
 //! shape: {"type": "mesh", "filename", "has_normals", ...} | {"type": "sphere", "center", "radius"}
 //!   | {"type": "disk", "to_world"}, each with "flip_normals", "material" (index), "emitter" (index or null)
 //! emitter: {"type": "area", "shape", "radiance"} | {"type": "point", "position", "intensity"}
-//!   | {"type": "constant", "radiance"} | ...
+//!   | {"type": "constant", "radiance"}
+//!   | {"type": "spot", "intensity", "cutoff_angle", "beam_width", "to_world"} (angles in degrees)
+//!   | {"type": "directional", "direction" (the way the light travels, unit), "irradiance"}
+//!   | {"type": "envmap", "filename" (absolute path of the source image: Mitsuba uplifts its RGB
+//!     the same way), "scale", "to_world"}
 //! ```
 
 use crate::bsdf::{microfacet::Distribution, Material};
@@ -81,7 +85,7 @@ pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
             Filter::Tabulated { radius, .. } => json!({"type": "gaussian", "stddev": radius / 4.0}),
         }},
         "sampler": {"type": format!("{:?}", s.sampler).to_lowercase(), "spp": s.spp, "seed": s.seed},
-        "integrator": {"type": "path", "max_depth": s.path.max_depth, "rr_depth": s.path.rr_depth, "hide_emitters": s.path.hide_emitters},
+        "integrator": {"type": "path", "max_depth": s.path.max_depth, "rr_depth": s.path.rr_depth, "hide_emitters": s.path.hide_emitters, "clamp": s.path.clamp},
         "spectral": {"wavelengths": s.lanes, "range": [lo, hi], "sampling": format!("{:?}", s.wavelengths.kind()).to_lowercase(), "dispersion": format!("{:?}", s.dispersion)},
         "outputs": {"rgb": job.channels.rgb, "xyz": job.channels.xyz, "bands": job.channels.bands.map(|b| json!({"count": b.count, "range": [b.lo, b.hi]}))},
         "materials": scene.materials.iter().map(|m| ctx.material(m)).collect::<Vec<_>>(),
@@ -224,6 +228,22 @@ impl Ctx {
                 json!({"type": "point", "position": position.to_array(), "intensity": self.spectrum(intensity)})
             }
             // Spot, directional and environment-map emitters.
+            Emitter::Spot(s) => {
+                let (cutoff, beam) = s.angles_deg();
+                json!({"type": "spot", "intensity": self.spectrum(s.intensity()), "cutoff_angle": cutoff,
+                       "beam_width": beam, "to_world": rows(&s.to_world())})
+            }
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => {
+                json!({"type": "directional", "direction": direction.to_array(), "irradiance": self.spectrum(irradiance)})
+            }
+            Emitter::Envmap(m) => {
+                let src = m.source();
+                json!({"type": "envmap", "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())),
+                       "scale": m.scale(), "to_world": rows(&Mat4::from_mat3(m.to_world()))})
+            }
             Emitter::Constant { radiance } => {
                 json!({"type": "constant", "radiance": self.spectrum(radiance)})
             }

@@ -248,6 +248,155 @@ fn missing_scene_file() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/scene.ron"));
 }
 
+/// `GOOD` with its emitter replaced.
+fn with_emitter(emitter: &str) -> String {
+    GOOD.replace(r#"Constant(radiance: Named("D65"))"#, emitter)
+}
+
+#[test]
+fn missing_or_unreadable_envmap_image() {
+    assert_input_error(
+        "envmap missing",
+        &with_emitter(r#"Envmap(filename: "nope/sky.exr")"#),
+        &[],
+        &[
+            "scene.ron",
+            "emitters[0].filename",
+            "nope/sky.exr",
+            "does not exist",
+        ],
+    );
+    let dir = workdir("envmap-garbage");
+    std::fs::write(dir.join("sky.exr"), "not an image").unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(&scene, with_emitter(r#"Envmap(filename: "sky.exr")"#)).unwrap();
+    let o = prism()
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(dir.join("x.exr"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("scene.ron")
+            && err.contains("emitters[0].filename")
+            && err.contains("sky.exr"),
+        "{err}"
+    );
+    assert!(!dir.join("x.exr").exists());
+}
+
+#[test]
+fn bad_spot_parameters() {
+    let spot = |params: &str| with_emitter(&format!("Spot({params})"));
+    for (name, params, needles) in [
+        (
+            "cutoff 0",
+            "cutoff_angle: 0",
+            &["emitters[0].cutoff_angle", "(0, 90]"][..],
+        ),
+        (
+            "cutoff 120",
+            "cutoff_angle: 120",
+            &["emitters[0].cutoff_angle"][..],
+        ),
+        (
+            "cutoff nan",
+            "cutoff_angle: NaN",
+            &["emitters[0].cutoff_angle"][..],
+        ),
+        (
+            "beam wider",
+            "cutoff_angle: 20, beam_width: 25",
+            &["emitters[0].beam_width", "cutoff_angle"][..],
+        ),
+        (
+            "beam negative",
+            "beam_width: -1",
+            &["emitters[0].beam_width"][..],
+        ),
+        (
+            "intensity negative",
+            "intensity: Constant(-2)",
+            &["emitters[0].intensity", "negative"][..],
+        ),
+    ] {
+        assert_input_error(name, &spot(params), &[], needles);
+    }
+}
+
+#[test]
+fn bad_directional_and_envmap_parameters() {
+    assert_input_error(
+        "zero direction",
+        &with_emitter("Directional(direction: (0, 0, 0))"),
+        &[],
+        &["emitters[0].direction", "non-zero"],
+    );
+    assert_input_error(
+        "direction and to_world",
+        &with_emitter(
+            "Directional(direction: (0, -1, 0), to_world: [Rotate(axis: (1, 0, 0), angle: 90)])",
+        ),
+        &[],
+        &["emitters[0]", "not both"],
+    );
+    assert_input_error(
+        "irradiance nan",
+        &with_emitter("Directional(irradiance: Constant(NaN))"),
+        &[],
+        &["emitters[0].irradiance", "finite"],
+    );
+    assert_input_error(
+        "envmap scale",
+        &with_emitter(r#"Envmap(filename: "sky.exr", scale: -1)"#),
+        &[],
+        &["emitters[0].scale", "≥ 0"],
+    );
+    assert_input_error(
+        "envmap scaled",
+        &with_emitter(r#"Envmap(filename: "sky.exr", to_world: [Scale((2, 1, 1))])"#),
+        &[],
+        &["emitters[0].to_world", "rotate"],
+    );
+}
+
+#[test]
+fn envmap_must_be_equirectangular() {
+    for (name, w, h, needles) in [
+        (
+            "envmap 16x12",
+            16,
+            12,
+            &["16×12", "equirectangular", "twice as wide as high"][..],
+        ),
+        ("envmap 4x2", 4, 2, &["4×2", "at least 6×3"][..]),
+    ] {
+        let dir = workdir(&name.replace(' ', "-"));
+        exr::prelude::write_rgb_file(dir.join("sky.exr"), w, h, |_, _| (1.0f32, 1.0, 1.0)).unwrap();
+        let scene = dir.join("scene.ron");
+        std::fs::write(&scene, with_emitter(r#"Envmap(filename: "sky.exr")"#)).unwrap();
+        let o = prism()
+            .arg("render")
+            .arg(&scene)
+            .arg("-o")
+            .arg(dir.join("x.exr"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(!dir.join("x.exr").exists(), "{name}");
+        for n in ["scene.ron", "emitters[0].filename", "sky.exr"]
+            .iter()
+            .chain(needles)
+        {
+            assert!(err.contains(n), "{name}: stderr lacks `{n}`:\n{err}");
+        }
+    }
+}
+
 #[test]
 fn bad_conductors() {
     let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
@@ -337,4 +486,76 @@ fn unreadable_textures() {
         &[],
         &["materials.\"grey\".opacity", "corrupt.png"],
     );
+}
+
+/// `prism export` writes spot, directional and envmap emitters with Mitsuba 3's parameter names,
+/// defaults resolved, the map's absolute path and 4×4 row-major matrices.
+#[test]
+fn export_writes_spot_directional_and_envmap() {
+    let dir = workdir("export-emitters");
+    exr::prelude::write_rgb_file(dir.join("sky.exr"), 8, 4, |_, _| (1.0f32, 1.0, 1.0)).unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(
+        &scene,
+        GOOD.replace(
+            r#"emitters: [Constant(radiance: Named("D65"))]"#,
+            r#"emitters: [
+                Spot(to_world: [Translate((1, 2, 3))]),
+                Directional(irradiance: Constant(2), direction: (0, 0, -2)),
+                Envmap(filename: "sky.exr", scale: 0.5, to_world: [Rotate(axis: (0, 1, 0), angle: 90)]),
+            ]"#,
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = prism()
+        .arg("export")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("scene.json")).unwrap()).unwrap();
+    let e = &json["emitters"];
+    let close = |v: &serde_json::Value, want: &[f64]| {
+        let got: Vec<f64> = v
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|r| match r.as_array() {
+                Some(row) => row.iter().map(|x| x.as_f64().unwrap()).collect(),
+                None => vec![r.as_f64().unwrap()],
+            })
+            .collect();
+        assert_eq!(got.len(), want.len());
+        assert!(
+            got.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-6),
+            "{got:?} vs {want:?}"
+        );
+    };
+    // The spot: Mitsuba's defaults, cutoff 20° and beam ¾ of it; intensity D65 tabulated.
+    assert_eq!(e[0]["type"], "spot");
+    assert_eq!(e[0]["cutoff_angle"], 20.0);
+    assert_eq!(e[0]["beam_width"], 15.0);
+    assert_eq!(e[0]["intensity"]["type"], "irregular");
+    #[rustfmt::skip]
+    close(&e[0]["to_world"], &[1., 0., 0., 1., 0., 1., 0., 2., 0., 0., 1., 3., 0., 0., 0., 1.]);
+    assert_eq!(e[1]["type"], "directional");
+    close(&e[1]["direction"], &[0.0, 0.0, -1.0]);
+    assert_eq!(e[1]["irradiance"]["value"], 2.0);
+    assert_eq!(e[2]["type"], "envmap");
+    assert_eq!(
+        e[2]["filename"].as_str().unwrap(),
+        dir.join("sky.exr")
+            .canonicalize()
+            .unwrap()
+            .to_str()
+            .unwrap()
+    );
+    assert_eq!(e[2]["scale"], 0.5);
+    // A 90° turn about +y: x → −z, z → x.
+    #[rustfmt::skip]
+    close(&e[2]["to_world"], &[0., 0., 1., 0., 0., 1., 0., 0., -1., 0., 0., 0., 0., 0., 0., 1.]);
 }

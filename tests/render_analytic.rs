@@ -8,7 +8,7 @@
 
 use prism::film::Film;
 use prism::integrator;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn render(text: &str, threads: usize) -> Film {
     let job = prism::scene::load_str(text, Path::new("inline.ron")).unwrap();
@@ -27,7 +27,7 @@ fn mean_se(data: &[f32]) -> (f64, f64) {
     (m, (var / n).sqrt())
 }
 
-fn check(name: &str, data: &[f32], expect: f64) {
+fn check(name: &str, data: &[f32], expect: f64) -> (f64, f64) {
     let (m, se) = mean_se(data);
     assert!(
         se <= 5e-3 * expect.abs().max(1e-3),
@@ -37,6 +37,7 @@ fn check(name: &str, data: &[f32], expect: f64) {
         (m - expect).abs() <= 5.0 * se + 1e-6,
         "{name}: mean {m} ± {se}, expected {expect}"
     );
+    (m, se)
 }
 
 const FURNACE: &str = r#"(
@@ -234,6 +235,258 @@ fn blackbody_sky_over_300_to_1100_nm() {
             &format!("blackbody band {name}"),
             &film.channels[k].data,
             expect,
+        );
+    }
+}
+
+// ---- Emitters: point, spot, directional and environment-map lights on a diffuse plane. ----
+//
+// The plane y = 0 (reflectance ρ, constant) faces +y. A diffuse plane lit by irradiance E(λ)
+// has radiance ρ/π·E(λ) in every direction, so each spectral band must be ρ/π × the band average
+// of E, and Y must be ρ/π × E's luminance. Where E varies over the plane (point and spot
+// lights), the camera looks straight down at one point through a 0.01° field of view: the patch
+// it sees is ±1.7e-3 wide, over which E varies by < 1e-5 relative, far below the 5σ tolerance
+// (σ ≈ 0.2% here).
+
+use prism::spectrum::Curve;
+
+const PLANE: &str = r#"(shape: Rectangle, material: "grey", to_world: [Scale((50, 50, 1)), Rotate(axis: (1, 0, 0), angle: -90)])"#;
+const RHO: f64 = 0.6;
+
+/// A scene: the plane, `emitter`, a camera at `eye` looking at `target`, 6 bands of 60 nm (each
+/// holds one or two of the 8 lanes, spaced 58.75 nm), uniform wavelength sampling.
+fn plane_scene(emitter: &str, eye: [f32; 3], target: [f32; 3], fov: f32) -> String {
+    format!(
+        r#"(
+        camera: (fov: {fov}, to_world: [LookAt(origin: ({}, {}, {}), target: ({}, {}, {}), up: (0, 0, 1))]),
+        film: (width: 24, height: 24, filter: Box()),
+        sampler: (spp: 64, seed: 11),
+        spectral: (sampling: Uniform, wavelengths: 8),
+        outputs: (bands: 6, band_range: (380, 740)),
+        materials: {{ "grey": Diffuse(reflectance: Constant({RHO})) }},
+        shapes: [{PLANE}],
+        emitters: [{emitter}],
+    )"#,
+        eye[0], eye[1], eye[2], target[0], target[1], target[2]
+    )
+}
+
+/// Checks each band and Y of `film` against `g` × the spectrum `s`.
+fn check_spectrum(name: &str, film: &Film, g: f64, s: &Curve) {
+    let bands: Vec<_> = film
+        .channels
+        .iter()
+        .filter(|c| c.name.starts_with("S0."))
+        .collect();
+    assert_eq!(bands.len(), film.band_centers.len());
+    for (c, center) in bands.iter().zip(&film.band_centers) {
+        let avg = s.average(center - 30.0, center + 30.0) as f64;
+        check(&format!("{name} {}", c.name), &c.data, g * avg);
+    }
+    let expect = g * s.luminance() as f64;
+    let (m, se) = check(&format!("{name} Y"), film.channel("Y").unwrap(), expect);
+    let z = if se > 0.0 { (m - expect) / se } else { 0.0 };
+    eprintln!("{name}: Y = {m:.5} ± {se:.1e}, exact {expect:.5} ({z:+.2}σ)");
+}
+
+fn named(name: &str) -> Curve {
+    prism::spectrum::data::named_illuminant(name).unwrap()
+}
+
+/// A point light of intensity I at height h: E = I cos θ / r² on the plane.
+#[test]
+fn point_light_on_a_plane() {
+    let intensity = named("A").scaled(3.0);
+    let light = r#"Point(position: (0, 2, 0), intensity: Scaled(3, Named("A")))"#;
+    // Right below the light, E = I/h²; 1.5 to the side, r = 2.5 and cos θ = 0.8.
+    for (x, geom) in [(0.0f32, 1.0 / 4.0), (1.5, 0.8 / 6.25)] {
+        let film = render(&plane_scene(light, [x, 20.0, 0.0], [x, 0.0, 0.0], 0.01), 2);
+        check_spectrum(
+            &format!("point x={x}"),
+            &film,
+            RHO / std::f64::consts::PI * geom,
+            &intensity,
+        );
+    }
+}
+
+/// A spot of cutoff 30° and beam width 20° at height 2, pointing down: at 10° from its axis it
+/// is a point light; at 25° it gives half (linear falloff in angle); at 40° nothing.
+#[test]
+fn spot_light_inside_transition_and_outside() {
+    let intensity = named("D65").scaled(5.0);
+    let light = r#"Spot(intensity: Scaled(5, Named("D65")), cutoff_angle: 30, beam_width: 20, to_world: [LookAt(origin: (0, 2, 0), target: (0, 0, 0), up: (0, 0, 1))])"#;
+    for (deg, falloff) in [(10.0f64, 1.0), (25.0, 0.5), (40.0, 0.0)] {
+        let t = deg.to_radians();
+        let x = (2.0 * t.tan()) as f32;
+        let film = render(&plane_scene(light, [x, 20.0, 0.0], [x, 0.0, 0.0], 0.01), 2);
+        // E = I·falloff·cos θ / r², r = h / cos θ.
+        let geom = falloff * t.cos().powi(3) / 4.0;
+        check_spectrum(
+            &format!("spot {deg}°"),
+            &film,
+            RHO / std::f64::consts::PI * geom,
+            &intensity,
+        );
+    }
+}
+
+/// A directional light 35° off the normal: E·cos θ everywhere. It is not an environment light:
+/// escaping rays must not see it (that would count it twice).
+#[test]
+fn directional_light_at_an_angle() {
+    let t = 35f32.to_radians();
+    let light = format!(
+        r#"Directional(irradiance: Scaled(2, Named("D65")), direction: ({}, {}, 0))"#,
+        t.sin(),
+        -t.cos()
+    );
+    let text = plane_scene(&light, [0.0, 3.0, 0.5], [0.0, 0.0, 0.0], 40.0);
+    let job = prism::scene::load_str(&text, Path::new("inline.ron")).unwrap();
+    assert!(job.scene.environment.is_empty());
+    // The same light given by `to_world` (it travels along its local +z).
+    let by_frame = plane_scene(
+        &format!(
+            "Directional(to_world: [LookAt(origin: (0, 0, 0), target: ({}, {}, 0), up: (0, 1, 0))])",
+            t.sin(),
+            -t.cos()
+        ),
+        [0.0, 3.0, 0.5],
+        [0.0, 0.0, 0.0],
+        40.0,
+    );
+    let job2 = prism::scene::load_str(&by_frame, Path::new("inline.ron")).unwrap();
+    match (&job.scene.emitters[0], &job2.scene.emitters[0]) {
+        (
+            prism::emitter::Emitter::Directional { direction: a, .. },
+            prism::emitter::Emitter::Directional { direction: b, .. },
+        ) => assert!(a.abs_diff_eq(*b, 1e-6), "{a} vs {b}"),
+        _ => panic!("not directional lights"),
+    }
+    let film = render(&text, 2);
+    check_spectrum(
+        "directional",
+        &film,
+        RHO / std::f64::consts::PI * t.cos() as f64,
+        &named("D65").scaled(2.0),
+    );
+}
+
+/// Writes a `w`×`h` grey EXR (`value(row)`) to a fresh temporary directory; returns the directory.
+fn grey_exr(name: &str, w: usize, h: usize, value: impl Fn(usize) -> f32 + Sync) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("prism-analytic-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    exr::prelude::write_rgb_file(dir.join("map.exr"), w, h, |_, y| {
+        let v = value(y);
+        (v, v, v)
+    })
+    .unwrap();
+    dir
+}
+
+fn render_at(text: &str, file: &Path) -> Film {
+    let job = prism::scene::load_str(text, file).unwrap();
+    integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0
+}
+
+/// A constant grey map v is the constant emitter of the uplift of (v, v, v): v × D65 at unit
+/// luminance. A convex diffuse sphere (ρ) in it shows ρ·v·D65 at every pixel (the camera sees
+/// only the sphere), through environment sampling, BSDF sampling and MIS.
+#[test]
+fn constant_envmap_equals_constant_emitter() {
+    let v = 0.7f32;
+    let dir = grey_exr("constant", 10, 5, |_| v);
+    // The uplift of a grey: the sigmoid of (½, ½, ½) is flat ½ to within 1e-4, so 2v·½·D65.
+    let uplift = Curve::rgb_illuminant([v; 3]);
+    let d65 = named("D65").scaled(v);
+    for l in (360..=830).step_by(10) {
+        let (a, b) = (uplift.eval_one(l as f32), d65.eval_one(l as f32));
+        assert!((a / b - 1.0).abs() < 1e-4, "{l} nm: {a} vs {b}");
+    }
+    let scene = |emitter: &str| {
+        format!(
+            r#"(
+            camera: (fov: 15, to_world: [LookAt(origin: (0, 0, 4), target: (0, 0, 0), up: (0, 1, 0))]),
+            film: (width: 24, height: 24, filter: Box()),
+            sampler: (spp: 64, seed: 4),
+            spectral: (sampling: Uniform, wavelengths: 8),
+            outputs: (bands: 6, band_range: (380, 740)),
+            materials: {{ "grey": Diffuse(reflectance: Constant({RHO})) }},
+            shapes: [(shape: Sphere(radius: 1), material: "grey")],
+            emitters: [{emitter}],
+        )"#
+        )
+    };
+    let file = dir.join("scene.ron");
+    for (name, emitter) in [
+        ("envmap", r#"Envmap(filename: "map.exr")"#.to_string()),
+        (
+            "constant",
+            format!(r#"Constant(radiance: Scaled({v}, Named("D65")))"#),
+        ),
+    ] {
+        let film = render_at(&scene(&emitter), &file);
+        check_spectrum(&format!("sphere in {name}"), &film, RHO, &d65);
+    }
+}
+
+/// A map whose upper hemisphere is a and lower b (18×9: rows 0–4 are a, row 4 lying on the
+/// horizon, as Mitsuba puts row j at θ = π j/(H − 1)): an upward plane sees only a, so it shows
+/// ρ·a·D65. This pins down "+y is up" and the row placement, and exercises importance sampling of
+/// a non-uniform map with MIS.
+///
+/// Turned upside down by `to_world`, the plane sees b, except that between the horizon (row 4,
+/// a) and 22.5° above it (row 5, b) the map blends linearly in θ from a to b. The plane then
+/// shows ρ·D65 × 2∫ L(θ) cos θ sin θ dθ over the hemisphere (≈ 4% below ρ·b·D65 here; texel-
+/// centred rows would move that by ~2%).
+#[test]
+fn two_hemisphere_envmap() {
+    let (a, b) = (0.4f64, 2.0f64);
+    let dir = grey_exr("hemispheres", 18, 9, |row| {
+        if row <= 4 {
+            a as f32
+        } else {
+            b as f32
+        }
+    });
+    let file = dir.join("scene.ron");
+    let (edge, horizon) = (
+        3.0 * std::f64::consts::FRAC_PI_8,
+        std::f64::consts::FRAC_PI_2,
+    );
+    let upside_down = |theta: f64| {
+        if theta <= edge {
+            b
+        } else {
+            b + (a - b) * (theta - edge) / (horizon - edge)
+        }
+    };
+    let m = 100_000;
+    let flipped = (0..m)
+        .map(|i| {
+            let t = (i as f64 + 0.5) / m as f64 * horizon;
+            2.0 * upside_down(t) * t.cos() * t.sin()
+        })
+        .sum::<f64>()
+        * horizon
+        / m as f64;
+    for (value, to_world) in [
+        (a, ""),
+        (flipped, ", to_world: [Rotate(axis: (1, 0, 0), angle: 180)]"),
+    ] {
+        let text = plane_scene(
+            &format!(r#"Envmap(filename: "map.exr"{to_world})"#),
+            [0.0, 3.0, 0.5],
+            [0.0, 0.0, 0.0],
+            40.0,
+        );
+        let film = render_at(&text, &file);
+        check_spectrum(
+            &format!("hemisphere {value}"),
+            &film,
+            RHO * value,
+            &named("D65"),
         );
     }
 }

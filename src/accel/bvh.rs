@@ -25,6 +25,23 @@ pub struct Bvh {
     ids: Vec<u32>,
 }
 
+/// obvhs' node test ignores boxes that end before t = 1e-4, a fixed absolute distance: rays
+/// leaving a point that close to a surface (a corner, a contact, any scene at a scale of 1e-4)
+/// would pass through it. The box test therefore runs on the same ray started this far behind
+/// its origin, so obvhs' cut-off falls behind the real origin; primitive tests use the real ray.
+const BOX_SHIFT: f32 = 2e-4;
+
+/// The ray for obvhs' box tests (see `BOX_SHIFT`).
+#[inline(always)]
+fn box_ray(ray: &Ray) -> obvhs::ray::Ray {
+    obvhs::ray::Ray::new(
+        (ray.o - ray.d * BOX_SHIFT).into(),
+        ray.d.into(),
+        0.0,
+        ray.t_max + BOX_SHIFT,
+    )
+}
+
 impl Bvh {
     pub fn build(prims: Vec<Prim>) -> Self {
         if prims.is_empty() {
@@ -65,7 +82,8 @@ impl Bvh {
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let bvh = self.bvh.as_ref()?;
         let shear = RayShear::new(ray);
-        let mut oray = obvhs::ray::Ray::new(ray.o.into(), ray.d.into(), 0.0, ray.t_max);
+        let mut oray = box_ray(ray);
+        let mut t_max = ray.t_max;
         let mut best = None;
         let mut state = bvh.new_traversal(oray.direction);
         let mut node;
@@ -76,8 +94,9 @@ impl Bvh {
             node.intersect_ray(&oray, state.oct_inv4),
             {
                 let i = state.primitive_id as usize;
-                if let Some(h) = self.geoms[i].intersect(ray, &shear, oray.tmax) {
-                    oray.tmax = h.t;
+                if let Some(h) = self.geoms[i].intersect(ray, &shear, t_max) {
+                    t_max = h.t;
+                    oray.tmax = h.t + BOX_SHIFT;
                     best = Some(Hit {
                         prim: self.ids[i],
                         hit: h,
@@ -95,7 +114,7 @@ impl Bvh {
             return false;
         };
         let shear = RayShear::new(ray);
-        let oray = obvhs::ray::Ray::new(ray.o.into(), ray.d.into(), 0.0, ray.t_max);
+        let oray = box_ray(ray);
         let mut state = bvh.new_traversal(oray.direction);
         let mut node;
         let mut hit = false;
@@ -107,7 +126,7 @@ impl Bvh {
                 node.intersect_ray(&oray, state.oct_inv4),
                 {
                     if self.geoms[state.primitive_id as usize]
-                        .intersect(ray, &shear, oray.tmax)
+                        .intersect(ray, &shear, ray.t_max)
                         .is_some()
                     {
                         hit = true;

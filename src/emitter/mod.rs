@@ -1,8 +1,11 @@
-//! Emitters: area lights on shapes, point lights, and a constant environment.
-//! Each can be sampled from a surface point (`sample_li`) and report the density with which it
-//! would have produced a given direction (`pdf_li`), which multiple importance sampling needs.
+//! Emitters: area lights on shapes, point and spot lights, a directional light, and a constant
+//! or image-based environment. Each can be sampled from a surface point (`sample_li`) and report
+//! the density with which it would have produced a given direction (`pdf_li`), which multiple
+//! importance sampling needs.
 
 mod area;
+mod envmap;
+mod spot;
 
 use crate::interaction::SurfaceInteraction;
 use crate::math::sampling::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
@@ -10,7 +13,9 @@ use crate::ray::Ray;
 use crate::shape::Shape;
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 pub use area::AreaEmitter;
+pub use envmap::EnvMap;
 use glam::{Vec2, Vec3};
+pub use spot::Spot;
 
 #[derive(Clone, Debug)]
 pub enum Emitter {
@@ -21,6 +26,13 @@ pub enum Emitter {
     /// Radiance `radiance` arriving from every direction at infinity.
     Constant { radiance: Curve },
     // Spot, directional and environment-map emitters.
+    /// A point light emitting into a cone, with a linear falloff in angle near its edge.
+    Spot(Spot),
+    /// Light arriving from a single direction at infinity: `direction` is the way it travels
+    /// (unit), `irradiance` (W m⁻² nm⁻¹) what a surface facing the light receives.
+    Directional { direction: Vec3, irradiance: Curve },
+    /// Radiance at infinity read from a latitude-longitude image.
+    Envmap(Box<EnvMap>),
 }
 
 /// Light arriving at a point from a sampled point on an emitter.
@@ -39,7 +51,9 @@ pub struct EmitterSample<const N: usize> {
 
 impl Emitter {
     pub fn is_environment(&self) -> bool {
-        matches!(self, Emitter::Constant { .. })
+        // Only lights that escaping rays can see; a directional light is a delta in direction,
+        // which no ray hits.
+        matches!(self, Emitter::Constant { .. } | Emitter::Envmap(_))
     }
 
     /// Samples light arriving at `si`. None if the sample carries nothing (back side, zero pdf).
@@ -81,6 +95,31 @@ impl Emitter {
                     delta: false,
                 })
             }
+            Emitter::Spot(s) => s.sample_li(si, wl),
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => {
+                let wi = -*direction;
+                // Radiance = irradiance with pdf 1: f·L/pdf is then E·f·cos θ, as it should be.
+                Some(EmitterSample {
+                    wi,
+                    shadow: si.spawn(wi),
+                    radiance: irradiance.eval(wl),
+                    pdf: 1.0,
+                    delta: true,
+                })
+            }
+            Emitter::Envmap(m) => {
+                let (wi, pdf) = m.sample(u)?;
+                Some(EmitterSample {
+                    wi,
+                    shadow: si.spawn(wi),
+                    radiance: m.eval(wi, wl),
+                    pdf,
+                    delta: false,
+                })
+            }
         }
     }
 
@@ -95,9 +134,10 @@ impl Emitter {
 
     /// Solid-angle density of `sample_li` producing direction `d` towards infinity.
     #[inline]
-    pub fn pdf_li_env(&self, _d: Vec3) -> f32 {
+    pub fn pdf_li_env(&self, d: Vec3) -> f32 {
         match self {
             Emitter::Constant { .. } => UNIFORM_SPHERE_PDF,
+            Emitter::Envmap(m) => m.pdf(d),
             _ => 0.0,
         }
     }
@@ -118,9 +158,10 @@ impl Emitter {
 
     /// Radiance arriving from infinity along direction `d` (environment emitters).
     #[inline]
-    pub fn le_env<const N: usize>(&self, _d: Vec3, wl: &Wavelengths<N>) -> Spectrum<N> {
+    pub fn le_env<const N: usize>(&self, d: Vec3, wl: &Wavelengths<N>) -> Spectrum<N> {
         match self {
             Emitter::Constant { radiance } => radiance.eval(wl),
+            Emitter::Envmap(m) => m.eval(d, wl),
             _ => Spectrum::zero(),
         }
     }

@@ -38,6 +38,8 @@ pub struct RenderStats {
     pub samples: u64,
     /// Camera samples whose radiance was NaN or infinite: counted, and left out of the image.
     pub invalid_samples: u64,
+    /// Camera samples cut down by the opt-in `clamp`.
+    pub clamped_samples: u64,
 }
 
 const TILE: u32 = 16;
@@ -79,7 +81,7 @@ fn render_lanes<const N: usize>(
     let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
-    let results: Vec<(Vec<f32>, u64)> = tiles
+    let results: Vec<(Vec<f32>, TileCounts)> = tiles
         .par_iter()
         .map(|&(x0, y0)| {
             let r = render_tile::<N>(scene, settings, sensor, x0, y0);
@@ -89,9 +91,10 @@ fn render_lanes<const N: usize>(
         })
         .collect();
     let mut means = vec![0.0f32; (w * h) as usize * slots];
-    let mut invalid = 0;
-    for (&(x0, y0), (tile, bad)) in tiles.iter().zip(&results) {
-        invalid += bad;
+    let (mut invalid, mut clamped) = (0, 0);
+    for (&(x0, y0), (tile, counts)) in tiles.iter().zip(&results) {
+        invalid += counts.invalid;
+        clamped += counts.clamped;
         let tw = (x0 + TILE).min(w) - x0;
         for (i, px) in tile.chunks_exact(slots).enumerate() {
             let (x, y) = (x0 + i as u32 % tw, y0 + i as u32 / tw);
@@ -105,8 +108,16 @@ fn render_lanes<const N: usize>(
         RenderStats {
             samples,
             invalid_samples: invalid,
+            clamped_samples: clamped,
         },
     )
+}
+
+/// Per-tile sample counts.
+#[derive(Clone, Copy, Default)]
+struct TileCounts {
+    invalid: u64,
+    clamped: u64,
 }
 
 fn render_tile<const N: usize>(
@@ -115,7 +126,7 @@ fn render_tile<const N: usize>(
     sensor: &Sensor,
     x0: u32,
     y0: u32,
-) -> (Vec<f32>, u64) {
+) -> (Vec<f32>, TileCounts) {
     let (x1, y1) = (
         (x0 + TILE).min(settings.width),
         (y0 + TILE).min(settings.height),
@@ -123,7 +134,8 @@ fn render_tile<const N: usize>(
     let slots = sensor.slots();
     let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize * slots);
     let mut acc = vec![0.0f64; slots];
-    let mut invalid = 0u64;
+    let mut counts = TileCounts::default();
+    let clamp = settings.path.clamp.unwrap_or(f32::INFINITY);
     let inv_spp = 1.0 / settings.spp as f64;
     for y in y0..y1 {
         for x in x0..x1 {
@@ -136,7 +148,7 @@ fn render_tile<const N: usize>(
                 let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                 let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
                 let ray = scene.camera.ray(film);
-                let l = path::radiance::<N>(
+                let mut l = path::radiance::<N>(
                     scene,
                     ray,
                     &wl,
@@ -145,8 +157,12 @@ fn render_tile<const N: usize>(
                     settings.dispersion,
                 );
                 if !l.is_finite() {
-                    invalid += 1;
+                    counts.invalid += 1;
                     continue;
+                }
+                if l.max_value() > clamp {
+                    counts.clamped += 1;
+                    l = Spectrum::from_fn(|j| l[j].min(clamp));
                 }
                 // Hero-wavelength lane weights 1 / (N p_j); a zero-pdf lane carries nothing.
                 let w = Spectrum::<N>::from_fn(|j| {
@@ -161,5 +177,5 @@ fn render_tile<const N: usize>(
             out.extend(acc.iter().map(|&a| (a * inv_spp) as f32));
         }
     }
-    (out, invalid)
+    (out, counts)
 }

@@ -14,7 +14,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// Settings of the `path` integrator, with Mitsuba 3's names and defaults.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PathSettings {
     /// Longest path in segments; −1 = unbounded.
@@ -23,6 +23,10 @@ pub struct PathSettings {
     pub rr_depth: u32,
     /// Hide emitters seen directly by the camera.
     pub hide_emitters: bool,
+    /// Opt-in firefly clamp: a camera sample's radiance is cut to at most this value
+    /// (W m^-2 sr^-1 nm^-1) in every lane. Off by default: clamping removes energy, so it biases
+    /// ground truth (darker highlights and caustics); prism counts the samples it clamped.
+    pub clamp: Option<f32>,
 }
 
 impl Default for PathSettings {
@@ -31,6 +35,7 @@ impl Default for PathSettings {
             max_depth: -1,
             rr_depth: 5,
             hide_emitters: false,
+            clamp: None,
         }
     }
 }

@@ -1,10 +1,10 @@
 //! Config → render-ready scene and settings, with every check a user's mistake can trip
 //! reported against the scene file and the field.
 
-use super::{geometry, materials, Scene};
+use super::{emitters, geometry, materials, Scene};
 use crate::bsdf::Material;
 use crate::camera::Camera;
-use crate::config::{self, spectrum_ctx, EmitterConfig, Role, SceneConfig};
+use crate::config::{self, spectrum_ctx, Role, SceneConfig};
 use crate::emitter::{AreaEmitter, Emitter};
 use crate::error::{Error, InputError};
 use crate::film::FilmChannels;
@@ -14,7 +14,6 @@ use crate::sampler::{SamplerKind, SOBOL_MAX_SPP};
 use crate::sensor::Bands;
 use crate::spectrum::{Curve, WavelengthSampler};
 use crate::texture::SpectralTexture;
-use glam::Vec3;
 use std::path::Path;
 
 /// A scene ready to render, with its settings.
@@ -164,6 +163,14 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         "integrator.max_depth",
         "max_depth must be −1 (unbounded) or ≥ 0",
     )?;
+    if let Some(c) = cfg.integrator.clamp {
+        check(
+            c.is_finite() && c > 0.0,
+            file,
+            "integrator.clamp",
+            "clamp must be a positive radiance (or left out: no clamping)",
+        )?;
+    }
 
     // Outputs.
     let o = &cfg.outputs;
@@ -273,34 +280,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
 
     for (i, e) in cfg.emitters.iter().enumerate() {
         let field = format!("emitters[{i}]");
-        emitters.push(match e {
-            EmitterConfig::Point {
-                position,
-                intensity,
-            } => {
-                check(
-                    finite3(*position),
-                    file,
-                    &format!("{field}.position"),
-                    "the position must be finite",
-                )?;
-                Emitter::Point {
-                    position: Vec3::from(*position),
-                    intensity: intensity.resolve(
-                        Role::Emission,
-                        &spectrum_ctx(file, &format!("{field}.intensity"), range),
-                        &mut warnings,
-                    )?,
-                }
-            }
-            EmitterConfig::Constant { radiance } => Emitter::Constant {
-                radiance: radiance.resolve(
-                    Role::Emission,
-                    &spectrum_ctx(file, &format!("{field}.radiance"), range),
-                    &mut warnings,
-                )?,
-            },
-        });
+        emitters.push(emitters::emitter(e, file, &field, range, &mut warnings)?);
     }
     if emitters.is_empty() {
         warnings.push(format!(

@@ -3,6 +3,7 @@
 //! reads it.
 
 mod build;
+mod emitters;
 mod geometry;
 mod materials;
 

@@ -210,6 +210,8 @@ def emitter(e: dict[str, Any]) -> dict[str, Any]:
             d["direction"] = [float(x) for x in e["direction"]]
         return d
     if kind == "envmap":
+        if not e.get("filename"):
+            raise Unsupported("an environment map not read from a file")
         d = {"type": "envmap", "filename": str(e["filename"]), "scale": float(e.get("scale", 1.0))}
         if "to_world" in e:
             d["to_world"] = _transform(e["to_world"])
