@@ -40,7 +40,8 @@ def write_figure(result, path: str | pathlib.Path) -> None:
     """Writes the figure of a `compare.Comparison` as PNG."""
     prism, prism_y = _rgb_and_y(result.prism_image, result.channels)
     mitsuba, mitsuba_y = _rgb_and_y(result.mitsuba_image, result.channels)
-    white = max(float(np.percentile(mitsuba_y, 99.5)), 1e-6)
+    # White: the 97th percentile, so a small bright emitter does not darken the rest.
+    white = max(float(np.percentile(mitsuba_y, 97)), 1e-6)
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(mitsuba_y > 0, prism_y / mitsuba_y - 1.0, 0.0)
     bias = result.bias

@@ -54,7 +54,8 @@ def report(rows: list[tuple[pathlib.Path, cmp.Comparison | str]], seconds: float
     failed = sum(1 for _, r in rows if isinstance(r, cmp.Comparison) and not r.passed)
     skipped = len(rows) - passed - failed
     commit = _git("rev-parse", "--short", "HEAD")
-    dirty = " (with uncommitted changes)" if _git("status", "--porcelain", "--untracked-files=no") else ""
+    # The report's own files do not count as changes.
+    dirty = " (with uncommitted changes)" if _git("status", "--porcelain", "--untracked-files=no", "--", ".", ":!docs") else ""
     out = [
         "# prism against Mitsuba 3",
         "",
