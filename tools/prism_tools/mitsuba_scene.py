@@ -20,6 +20,7 @@ Conventions checked by tools/tests/test_mitsuba_scene.py:
 
 from __future__ import annotations
 
+import functools
 import json
 import pathlib
 from typing import Any
@@ -48,6 +49,18 @@ def load(path: str | pathlib.Path) -> dict[str, Any]:
     if scene.get("format") != "prism-scene" or scene.get("version") != 1:
         raise Unsupported(f"{path}: not a version 1 prism scene export")
     return scene
+
+
+@functools.cache
+def y_normalization_correction() -> float:
+    """Puts Mitsuba's colours on prism's (and colour-science's) scale, where a spectrum that is 1
+    everywhere has Y = 1. Mitsuba divides by a constant, 1 / MI_CIE_Y_NORMALIZATION = 106.750,
+    that is 0.1% smaller than the integral of its own ȳ over 360–830 nm (106.857), so its Y of
+    that spectrum is 1.001. The factor is that ratio's inverse, from Mitsuba's own ȳ (piecewise
+    linear between whole nanometres, so the trapezoid rule on a 0.25 nm grid is exact)."""
+    nm = np.linspace(360.0, 830.0, 4 * 470 + 1)
+    ybar = np.array([float(np.asarray(mi.cie1931_y(float(w))).ravel()[0]) for w in nm])
+    return 1.0 / (np.trapezoid(ybar, nm) * mi.MI_CIE_Y_NORMALIZATION)
 
 
 def _transform(rows: list[list[float]]) -> "mi.ScalarTransform4f":
@@ -212,7 +225,11 @@ def emitter(e: dict[str, Any]) -> dict[str, Any]:
     if kind == "envmap":
         if not e.get("filename"):
             raise Unsupported("an environment map not read from a file")
-        d = {"type": "envmap", "filename": str(e["filename"]), "scale": float(e.get("scale", 1.0))}
+        # Mitsuba uplifts the texels itself, with a D65 normalised on its own colour scale, so
+        # the rendered RGB reproduces the texels before `y_normalization_correction`; undo that
+        # factor here (prism's texels reproduce exactly on the corrected scale).
+        scale = float(e.get("scale", 1.0)) / y_normalization_correction()
+        d = {"type": "envmap", "filename": str(e["filename"]), "scale": scale}
         if "to_world" in e:
             d["to_world"] = _transform(e["to_world"])
         return d

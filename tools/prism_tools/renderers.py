@@ -67,7 +67,7 @@ class MitsubaRenderer:
         self.scene = mi.load_dict(ms.convert(exported, spp=self.spp))
         # XYZ from Mitsuba's linear sRGB, by the inverse of the matrix its film applies.
         self._srgb_to_xyz = np.linalg.inv(xyz_to_srgb_matrix())
-        self._scale = y_normalization_correction()
+        self._scale = ms.y_normalization_correction()
 
     def render(self, seed: int, names: list[str] = CHANNELS) -> np.ndarray:
         """(height, width, len(names)), channels `names` (of `CHANNELS`) in order."""
@@ -82,19 +82,6 @@ def xyz_to_srgb_matrix() -> np.ndarray:
 
     columns = [np.array(mi.xyz_to_srgb(mi.ScalarColor3f(*e))) for e in np.eye(3)]
     return np.stack(columns, axis=1)
-
-
-def y_normalization_correction() -> float:
-    """Puts Mitsuba's colours on prism's (and colour-science's) scale, where a spectrum that is 1
-    everywhere has Y = 1. Mitsuba divides by a constant, 1 / MI_CIE_Y_NORMALIZATION = 106.750,
-    that is 0.1% smaller than the integral of its own ȳ over 360–830 nm (106.857), so its Y of
-    that spectrum is 1.001. The factor is that ratio's inverse, from Mitsuba's own ȳ (piecewise
-    linear between whole nanometres, so the trapezoid rule on a 0.25 nm grid is exact)."""
-    import mitsuba as mi
-
-    nm = np.linspace(360.0, 830.0, 4 * 470 + 1)
-    ybar = np.array([float(np.asarray(mi.cie1931_y(float(w))).ravel()[0]) for w in nm])
-    return 1.0 / (np.trapezoid(ybar, nm) * mi.MI_CIE_Y_NORMALIZATION)
 
 
 def _run(cmd: list[str]) -> None:

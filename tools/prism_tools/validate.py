@@ -68,8 +68,8 @@ def report(rows: list[tuple[pathlib.Path, cmp.Comparison | str]], seconds: float
         "- Verdict: Welch t-tests of 8×8 tile means of R, G, B, X, Y, Z across the renders, Holm-corrected; "
         "FAIL when a corrected p-value is below 1e-3 (noise alone fails a scene with probability ≤ that).",
         "- Mitsuba's colours are scaled by 0.9990 onto prism's colorimetric scale (a spectrum of 1 has "
-        "Y = 1; Mitsuba's normalisation gives 1.001), see `y_normalization_correction` in "
-        "tools/prism_tools/renderers.py.",
+        "Y = 1; Mitsuba's normalisation gives 1.001) and its envmaps, uplifted on Mitsuba's own scale, by "
+        "the inverse; see `y_normalization_correction` in tools/prism_tools/mitsuba_scene.py.",
         "- Means are whole-image means of linear sRGB (the first three channels a scene writes) with 95% "
         "confidence intervals; relMSE is prism's mean image against Mitsuba's over all channels, noise of "
         "both included.",
