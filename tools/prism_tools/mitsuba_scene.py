@@ -9,13 +9,18 @@ included), camera, pixel filter, integrator and prism's own tabulation of every 
 What Mitsuba cannot render the same way raises `Unsupported` (`Dispersive` for a
 wavelength-dependent index of refraction), naming the part of the scene.
 
-Conventions checked by tools/tests/test_mitsuba_scene.py:
+Conventions, checked by tools/tests/test_mitsuba_scene.py or by the scene comparisons:
 - twosided: the first child is the front BSDF, the second the back one; blendbsdf: weight 0 is
   the first child. Children are keyed so that sorting the keys keeps that order either way.
-- Meshes without normals get `face_normals` (Mitsuba would otherwise smooth them).
+- Meshes without normals get `face_normals` (Mitsuba would otherwise smooth them); prism bakes
+  flip_normals into the exported meshes.
 - The camera's field of view is along x (prism exports the x extent whatever fov_axis it had).
 - The film samples a border around the image: prism's filter importance sampling reaches past
   the image edges, as Mitsuba does only with `sample_border`.
+- Scalar checkerboards swap their values (Mitsuba's `eval_1` has the squares the other way
+  round from its spectral `eval`, which prism follows); scalar bitmaps are the image's luminance,
+  made by Mitsuba's own conversion.
+- Colours: see `y_normalization_correction`.
 """
 
 from __future__ import annotations
