@@ -17,7 +17,11 @@
 //!   "materials": [material...], "shapes": [shape...], "emitters": [emitter...] }
 //! material: {"type": "diffuse", "reflectance": texture} | {"type": "twosided", "front", "back"}
 //!   | {"type": "blend", "weight": float_texture, "bsdf0", "bsdf1"} | {"type": "mask", "opacity", "bsdf"}
-//!   | {"type": "plastic" | "roughplastic", ...} | ...
+//!   | {"type": "plastic" | "roughplastic", ...}
+//!   | {"type": "dielectric" | "thindielectric" | "roughdielectric", "int_ior", "ext_ior",
+//!      "dispersive", "specular_reflectance", "specular_transmittance"[, "distribution",
+//!      "alpha_u", "alpha_v"]} | ...
+//!   (a dielectric's int_ior and ext_ior are numbers, or spectra where "dispersive" is true)
 //! texture: spectrum | {"type": "checkerboard", "color0", "color1", "uv_scale", "uv_offset"}
 //!   | {"type": "bitmap", "filename", "raw", "filter", "wrap", "uv_scale", "uv_offset"}
 //! shape: {"type": "mesh", "filename", "has_normals", ...} | {"type": "sphere", "center", "radius"}
@@ -36,7 +40,7 @@ use crate::error::Error;
 use crate::filter::Filter;
 use crate::scene::Job;
 use crate::shape::{Mesh, Shape};
-use crate::spectrum::Curve;
+use crate::spectrum::{Curve, Ior, RelativeIor};
 use crate::texture::{FloatTexture, SpectralTexture, TexFilter, UvMap, Wrap};
 use glam::Mat4;
 use serde_json::{json, Value};
@@ -194,6 +198,44 @@ impl Ctx {
                        "alpha_u": self.float_texture(alpha_u), "alpha_v": self.float_texture(alpha_v)})
             }
             // Dielectrics.
+            Material::Dielectric {
+                ior,
+                specular_reflectance,
+                specular_transmittance,
+            } => {
+                let mut v = json!({"type": "dielectric",
+                    "specular_reflectance": self.texture(specular_reflectance),
+                    "specular_transmittance": self.texture(specular_transmittance)});
+                self.iors(ior, &mut v);
+                v
+            }
+            Material::RoughDielectric {
+                ior,
+                distribution,
+                alpha_u,
+                alpha_v,
+                specular_reflectance,
+                specular_transmittance,
+            } => {
+                let mut v = json!({"type": "roughdielectric",
+                    "specular_reflectance": self.texture(specular_reflectance),
+                    "specular_transmittance": self.texture(specular_transmittance),
+                    "distribution": distribution_name(*distribution),
+                    "alpha_u": self.float_texture(alpha_u), "alpha_v": self.float_texture(alpha_v)});
+                self.iors(ior, &mut v);
+                v
+            }
+            Material::ThinDielectric {
+                ior,
+                specular_reflectance,
+                specular_transmittance,
+            } => {
+                let mut v = json!({"type": "thindielectric",
+                    "specular_reflectance": self.texture(specular_reflectance),
+                    "specular_transmittance": self.texture(specular_transmittance)});
+                self.iors(ior, &mut v);
+                v
+            }
             // Plastics.
             Material::Plastic {
                 diffuse,
@@ -214,6 +256,25 @@ impl Ctx {
                 "specular_reflectance": self.texture(specular), "int_ior": eta, "ext_ior": 1.0, "nonlinear": nonlinear,
                 "distribution": distribution_name(microfacet.kind), "alpha": microfacet.alpha_u}),
         }
+    }
+
+    /// A dielectric's `int_ior` and `ext_ior`: numbers (as Mitsuba takes them) unless the
+    /// interface is dispersive; then both are spectra (a constant side as `{"type": "constant"}`)
+    /// and `"dispersive": true` tells the reader that Mitsuba cannot render it the same way.
+    fn iors(&self, ior: &RelativeIor, out: &mut Value) {
+        let mid = 0.5 * (self.lo + self.hi);
+        let side = |n: &Ior| {
+            if !ior.dispersive() {
+                return json!(n.eval_one(mid));
+            }
+            match n.tabulate(self.lo, self.hi) {
+                None => json!({"type": "constant", "value": n.eval_one(mid)}),
+                Some((wl, v)) => json!({"type": "irregular", "wavelengths": wl, "values": v}),
+            }
+        };
+        out["int_ior"] = side(&ior.int);
+        out["ext_ior"] = side(&ior.ext);
+        out["dispersive"] = json!(ior.dispersive());
     }
 
     fn emitter(&self, e: &Emitter) -> Value {

@@ -21,8 +21,10 @@ use prism::spectrum::{WavelengthSampler, WavelengthSampling, Wavelengths};
 use std::f64::consts::PI;
 use std::path::Path;
 
-/// Chi-square tests this file runs (for the significance level).
-const CHI2_TESTS: usize = 87;
+/// Chi-square tests this file runs (for the significance level): 46 for diffuse, plastics,
+/// conductors and mixtures, 44 for dielectrics (40 rough-dielectric configurations, 2
+/// dispersive, 2 blended). Counted by instrumenting `chi2_binned`.
+const CHI2_TESTS: usize = 90;
 
 /// A material from its RON config (through the scene loader, so checks apply).
 pub fn material(cfg: &str) -> Material {
@@ -94,11 +96,19 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 
 /// Chi-square test of `sample` against `pdf` for incident direction `wi`.
 pub fn chi2(name: &str, m: &Material, wi: Vec3) {
+    chi2_binned(name, m, wi, Vec3::Z, 10);
+}
+
+/// `chi2` with the sphere binned in (1 − cos θ, φ) about `pole`, each cell's expected count
+/// integrated by Gauss–Legendre quadrature on `sub`×`sub` nodes. Cells near a pole are caps
+/// whose nearest node row is a few degrees off the pole, so a lobe narrower than that must not
+/// sit on a pole: pick a pole away from it (e.g. normal to the plane of incidence).
+pub fn chi2_binned(name: &str, m: &Material, wi: Vec3, pole: Vec3, sub: usize) {
     const NT: usize = 40;
     const NP: usize = 80;
-    const SUB: usize = 10;
     let n = 200_000usize;
     let b = bsdf(m, wi);
+    let frame = Frame::from_normal(pole.normalize());
     let mut rng = Pcg32::new(0xb5df, 3);
     let mut observed = vec![0.0; NT * NP + 1];
     let dcos = 2.0 / NT as f64;
@@ -111,7 +121,7 @@ pub fn chi2(name: &str, m: &Material, wi: Vec3) {
             observed[NT * NP] += 1.0;
             continue;
         }
-        let w = s.wo.as_dvec3().normalize();
+        let w = frame.to_local(s.wo).as_dvec3().normalize();
         let it = (((1.0 - w.z) / dcos) as usize).min(NT - 1);
         let ip = ((w.y.atan2(w.x).rem_euclid(2.0 * PI) / dphi) as usize).min(NP - 1);
         observed[it * NP + ip] += 1.0;
@@ -121,18 +131,31 @@ pub fn chi2(name: &str, m: &Material, wi: Vec3) {
     // Gauss–Legendre rather than the midpoint rule within a cell: a lobe a few hundredths of a
     // cell wide (a smooth metal seen head-on) is still integrated to ~1e-6, and any shortfall
     // would land in the Dirac cell, which such a lobe never fills.
-    let nodes = gauss_legendre(SUB);
+    // With a tilted pole the surface plane, where a pdf jumps from reflection to transmission,
+    // cuts cells obliquely; quadrature converges only linearly across a jump, so those cells
+    // (the nodes lie on both sides) are integrated again on 4× finer nodes.
+    let nodes = gauss_legendre(sub);
+    let fine = gauss_legendre(4 * sub);
+    let cell = |it: usize, ip: usize, nodes: &[(f64, f64)]| {
+        let (mut sum, mut above, mut below) = (0.0, false, false);
+        for &(xa, wa) in nodes {
+            for &(xc, wc) in nodes {
+                let z = 1.0 - (it as f64 + xa) * dcos;
+                let phi = (ip as f64 + xc) * dphi;
+                let s = (1.0 - z * z).max(0.0).sqrt();
+                let local = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32);
+                let wo = frame.to_world(local);
+                (above, below) = (above || wo.z > 0.0, below || wo.z < 0.0);
+                sum += wa * wc * b.pdf(wi, wo) as f64;
+            }
+        }
+        (sum, above && below)
+    };
     for it in 0..NT {
         for ip in 0..NP {
-            let mut sum = 0.0;
-            for &(xa, wa) in &nodes {
-                for &(xc, wc) in &nodes {
-                    let z = 1.0 - (it as f64 + xa) * dcos;
-                    let phi = (ip as f64 + xc) * dphi;
-                    let s = (1.0 - z * z).max(0.0).sqrt();
-                    let wo = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32);
-                    sum += wa * wc * b.pdf(wi, wo) as f64;
-                }
+            let (mut sum, straddles) = cell(it, ip, &nodes);
+            if straddles {
+                sum = cell(it, ip, &fine).0;
             }
             let e = sum * dcos * dphi * n as f64;
             expected[it * NP + ip] = e;
@@ -501,4 +524,271 @@ fn rough_conductor_matches_mitsuba() {
             "{cfg}: pdf {our_pdf} vs Mitsuba {pdf}"
         );
     }
+}
+
+// Dielectrics.
+
+/// An interface with relative index `eta_case` ("1.5": glass outside air; "1/1.33": air
+/// bubble in water, i.e. the denser medium outside).
+fn iors(eta_case: &str) -> &'static str {
+    match eta_case {
+        "1.5" => "int_ior: 1.5, ext_ior: 1.0",
+        "1/1.33" => "int_ior: 1.0, ext_ior: 1.33",
+        _ => unreachable!(),
+    }
+}
+
+/// Energy of the hero lane from `wi` with the radiance scaling undone: E[weight · η²], where
+/// a sample's η is the relative index it crossed (1 for reflection). Radiance is compressed by
+/// 1/η² when it crosses into a denser medium, so E[weight] itself may exceed 1 from inside
+/// glass; the energy (flux) fraction E[weight · η²] may not. Returns (mean, standard error).
+fn energy(m: &Material, wi: Vec3) -> (f64, f64) {
+    let b = bsdf(m, wi);
+    let mut rng = Pcg32::new(9, 9);
+    let n = 100_000;
+    let (mut s1, mut s2) = (0.0, 0.0);
+    for _ in 0..n {
+        let w = b
+            .sample(wi, rng.next_f32(), u2(&mut rng))
+            .map_or(0.0, |s| (s.weight[0] * s.eta * s.eta) as f64);
+        s1 += w;
+        s2 += w * w;
+    }
+    let mean = s1 / n as f64;
+    (
+        mean,
+        ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt(),
+    )
+}
+
+/// `chi2` for glossy lobes: reflection and refraction peak in the plane of incidence (which
+/// `dir` puts at azimuth atan2(0.6, 0.8)), so the bins' pole is the normal to that plane, and
+/// cells are integrated on 20×20 nodes (a cell spans ~3°×4.5°; α = 0.1 lobes are a few
+/// degrees wide, and refraction near the critical angle folds them more sharply still).
+fn chi2_glossy(name: &str, m: &Material, wi: Vec3) {
+    chi2_binned(name, m, wi, Vec3::new(-0.6, 0.8, 0.0), 20);
+}
+
+/// Chi-square of the rough dielectric's sampling against its pdf for both distributions, two
+/// roughnesses, glass (η = 1.5) and an air bubble in water (η = 1/1.33), from outside and from
+/// inside (negative angles); the refractions land in the lower hemisphere, which the binning
+/// covers (the whole sphere). Also: each sample's weight is eval/pdf lane by lane.
+#[test]
+fn rough_dielectric_sampling_matches_pdf() {
+    for dist in ["Beckmann", "Ggx"] {
+        for a in [0.1, 0.3] {
+            for eta in ["1.5", "1/1.33"] {
+                let cfg = format!(
+                    "RoughDielectric(distribution: {dist}, alpha: {a}, {})",
+                    iors(eta)
+                );
+                let m = material(&cfg);
+                for t in [0.0, 45.0, 80.0, -30.0, -70.0] {
+                    chi2_glossy(&format!("{cfg} θ={t}"), &m, dir(t));
+                    consistency(&cfg, &m, dir(t));
+                }
+            }
+        }
+    }
+}
+
+/// A dispersive rough glass samples with the hero's η; its pdf is the hero's too. And a rough
+/// dielectric blended with a diffuse lobe (mixture sampling of smooth lobes).
+#[test]
+fn rough_dielectric_dispersive_and_blended() {
+    let sf11 = material("RoughDielectric(distribution: Ggx, alpha: 0.1, int_ior: Glass(\"SF11\"))");
+    for t in [45.0, -30.0] {
+        chi2_glossy("SF11", &sf11, dir(t));
+        consistency("SF11", &sf11, dir(t));
+    }
+    let blend = material(
+        "Blend(weight: 0.5, bsdf0: Diffuse(reflectance: Constant(0.7)), bsdf1: RoughDielectric(alpha: 0.2))",
+    );
+    for t in [20.0, 70.0] {
+        chi2_glossy("blend", &blend, dir(t));
+        consistency("blend", &blend, dir(t));
+    }
+}
+
+/// For lane k, `pdf_lanes` is the density with which the material, driven by lane k's η, would
+/// have sampled wo: it equals the hero pdf of a non-dispersive glass whose η is lane k's.
+/// Checked for reflection and refraction from both sides. Tolerance: relative 1e-4 (the same
+/// f32 expressions; η_k is rebuilt bit for bit, so only the order of operations differs).
+#[test]
+fn rough_dielectric_lane_densities() {
+    let glass = prism::spectrum::Ior::glass("SF11").unwrap();
+    let air = 1.000277f32;
+    let wl = wavelengths(0.37);
+    let m = material("RoughDielectric(distribution: Beckmann, alpha: 0.08, int_ior: Glass(\"SF11\"), ext_ior: 1.000277)");
+    let lane_materials: Vec<Material> = (0..4)
+        .map(|k| {
+            material(&format!(
+                "RoughDielectric(distribution: Beckmann, alpha: 0.08, int_ior: {:?}, ext_ior: {air:?})",
+                glass.eval_one(wl.lambda[k])
+            ))
+        })
+        .collect();
+    let mut rng = Pcg32::new(11, 2);
+    let mut checked = [0usize; 2];
+    for t in [10.0, 50.0, -20.0, -40.0] {
+        let wi = dir(t);
+        let b = bsdf(&m, wi);
+        for _ in 0..3000 {
+            let Some(s) = b.sample(wi, rng.next_f32(), u2(&mut rng)) else {
+                continue;
+            };
+            let lanes = b.pdf_lanes(wi, s.wo);
+            assert!((lanes[0] - s.pdf).abs() <= 1e-4 * s.pdf, "hero lane");
+            for k in 0..4 {
+                assert!((s.pdf_lanes[k] - lanes[k]).abs() <= 1e-4 * lanes[k].max(1e-6));
+                let single = bsdf(&lane_materials[k], wi).pdf(wi, s.wo);
+                assert!(
+                    (lanes[k] - single).abs() <= 1e-4 * single.max(1e-6),
+                    "θ={t} lane {k}: pdf_lanes {} vs lane-η pdf {single}",
+                    lanes[k]
+                );
+            }
+            checked[(s.wo.z * wi.z < 0.0) as usize] += 1;
+        }
+    }
+    // Both kinds of event were exercised, and secondary lanes of a refraction differ from the
+    // hero (else the test would not test dispersion).
+    assert!(checked[0] > 100 && checked[1] > 1000, "{checked:?}");
+}
+
+/// Reciprocity in radiance mode. Reflection: f(wi, wo) = f(wo, wi). Refraction: the physical
+/// BTDF obeys f_s(in → out)/n_out² = f_s(out → in)/n_in² (Veach 1997, §5.2); our f(wi, wo) is
+/// f_s(wo → wi) (light arrives along wo and leaves towards the camera along wi), so
+/// f(wi, wo)/n(wi)² = f(wo, wi)/n(wo)², n(·) the index on that direction's side. Checked for
+/// every lane of a dispersive glass (each with its own η). Tolerance: relative 1e-3 (f32), plus
+/// 1e-6 absolute where f ≪ 1; pairs whose facet is within ~3° of grazing are skipped (f32
+/// cancellation in Snell's law at the critical angle, 1% there, not a property of the model).
+#[test]
+fn rough_dielectric_reciprocity() {
+    for cfg in [
+        "RoughDielectric(distribution: Ggx, alpha: 0.3, int_ior: 1.5, ext_ior: 1.0)",
+        "RoughDielectric(distribution: Beckmann, alpha: 0.2, int_ior: Glass(\"SF11\"), ext_ior: 1.0)",
+    ] {
+        let m = material(cfg);
+        let wl = wavelengths(0.37);
+        let eta: Vec<f32> = (0..4)
+            .map(|k| match cfg.contains("SF11") {
+                true => prism::spectrum::Ior::glass("SF11")
+                    .unwrap()
+                    .eval_one(wl.lambda[k]),
+                false => 1.5,
+            })
+            .collect();
+        let mut rng = Pcg32::new(8, 9);
+        let mut tested = 0;
+        for _ in 0..3000 {
+            let a = prism::math::sampling::square_to_uniform_sphere(u2(&mut rng));
+            let c = prism::math::sampling::square_to_uniform_sphere(u2(&mut rng));
+            if a.z.abs() < 0.05 || c.z.abs() < 0.05 {
+                continue;
+            }
+            let f1 = bsdf(&m, a).eval(a, c) / c.z.abs();
+            let f2 = bsdf(&m, c).eval(c, a) / a.z.abs();
+            for k in 0..4 {
+                let n = |w: Vec3| if w.z > 0.0 { 1.0 } else { eta[k] };
+                // Near the critical angle (a facet seen at grazing from the thin side) Snell's
+                // cos θ_t cancels catastrophically in f32; f64 shows exact reciprocity there.
+                let h = if a.z * c.z > 0.0 { a + c } else { a * n(a) + c * n(c) };
+                let mh = h.normalize();
+                if a.dot(mh).abs() < 0.05 || c.dot(mh).abs() < 0.05 {
+                    continue;
+                }
+                let (l, r) = (f1[k] / (n(a) * n(a)), f2[k] / (n(c) * n(c)));
+                // f32 cancellation in wo·m near grazing facets blurs tiny values: 1e-6 absolute.
+                assert!(
+                    (l - r).abs() <= 1e-3 * l.abs().max(r.abs()) + 1e-6,
+                    "{cfg} lane {k}: f({a:?}, {c:?})/n² = {l}, reversed {r}"
+                );
+                tested += (l > 1e-3) as usize;
+            }
+        }
+        assert!(tested > 500, "{cfg}: only {tested} non-zero values");
+    }
+}
+
+/// White furnace. A smooth dielectric and a thin dielectric with unit specular factors lose
+/// nothing: every sample's energy weight is exactly 1 (so the mean is 1 to rounding, 1e-5). A
+/// rough dielectric may lose energy (single-scattering microfacets), never gain it: at most 1
+/// plus 4 standard errors. Angles include the inside, beyond the critical angle.
+#[test]
+fn dielectric_energy() {
+    for cfg in [
+        "Dielectric()",
+        "Dielectric(int_ior: Glass(\"SF11\"))",
+        "Dielectric(int_ior: \"water\", ext_ior: Named(\"diamond\"))",
+    ] {
+        let m = material(cfg);
+        for t in [0.0, 30.0, 60.0, 89.0, -20.0, -45.0, -80.0] {
+            let (e, _) = energy(&m, dir(t));
+            assert!((e - 1.0).abs() < 1e-5, "{cfg} θ={t}: energy {e}");
+        }
+    }
+    for cfg in ["ThinDielectric()", "ThinDielectric(int_ior: Glass(\"F2\"))"] {
+        energy_is_one(cfg, &material(cfg), &[0.0, 40.0, 85.0, -10.0, -70.0]);
+    }
+    for dist in ["Beckmann", "Ggx"] {
+        for a in [0.05, 0.3, 0.8] {
+            for eta in ["1.5", "1/1.33"] {
+                let cfg = format!(
+                    "RoughDielectric(distribution: {dist}, alpha: {a}, {})",
+                    iors(eta)
+                );
+                let m = material(&cfg);
+                for t in [0.0, 30.0, 60.0, 85.0, -30.0, -60.0, -85.0] {
+                    let (e, se) = energy(&m, dir(t));
+                    assert!(e <= 1.0 + 4.0 * se + 1e-6, "{cfg} θ={t}: energy {e} ± {se}");
+                    // Low roughness loses little (masking only grows at grazing angles).
+                    if a == 0.05 && t.abs() <= 30.0 {
+                        assert!(e > 0.97, "{cfg} θ={t}: energy {e}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The smooth dispersive dielectric through the material loader: a Sellmeier glass's lanes
+/// each have their η; a reflection keeps all four lanes with pdf_lanes = F_k (lane k's
+/// probability of choosing it) and weight F_k/F_hero; a refraction keeps only the hero. The
+/// BSDF reports itself dispersive, a constant-IOR glass does not.
+#[test]
+fn smooth_dispersive_dielectric_lanes() {
+    let m = material("Dielectric(int_ior: Glass(\"BK7\"), ext_ior: Named(\"vacuum\"))");
+    let wl = wavelengths(0.37);
+    let bk7 = prism::spectrum::Ior::glass("BK7").unwrap();
+    let wi = dir(55.0);
+    let b = bsdf(&m, wi);
+    assert!(b.dispersive() && !b.has_smooth());
+    let f: Vec<f32> = (0..4)
+        .map(|k| prism::bsdf::fresnel::dielectric(wi.z, bk7.eval_one(wl.lambda[k])).0)
+        .collect();
+    assert!(
+        f.windows(2).all(|w| w[0] != w[1]),
+        "lanes must differ: {f:?}"
+    );
+    let r = b.sample(wi, 0.0, Vec2::ZERO).unwrap();
+    assert!(r.delta && r.wo.z > 0.0);
+    for k in 0..4 {
+        assert!((r.pdf_lanes[k] - f[k]).abs() < 1e-6, "lane {k}");
+        assert!((r.weight[k] - f[k] / f[0]).abs() < 1e-5, "lane {k}");
+    }
+    let t = b.sample(wi, 0.99, Vec2::ZERO).unwrap();
+    let n0 = bk7.eval_one(wl.lambda[0]);
+    assert!(t.wo.z < 0.0 && (t.eta - n0).abs() < 1e-6);
+    assert!((t.pdf_lanes[0] - (1.0 - f[0])).abs() < 1e-6);
+    assert!((t.weight[0] - 1.0 / (n0 * n0)).abs() < 1e-5);
+    for k in 1..4 {
+        assert_eq!((t.pdf_lanes[k], t.weight[k]), (0.0, 0.0), "lane {k}");
+    }
+    let plain = material("Dielectric(int_ior: 1.5)");
+    assert!(!bsdf(&plain, wi).dispersive());
+    let rough = material("RoughDielectric(int_ior: Glass(\"BK7\"))");
+    assert!(bsdf(&rough, wi).dispersive());
+    let thin = material("ThinDielectric(int_ior: Named(\"water\"))");
+    assert!(!bsdf(&thin, wi).dispersive());
 }

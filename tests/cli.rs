@@ -559,3 +559,217 @@ fn export_writes_spot_directional_and_envmap() {
     #[rustfmt::skip]
     close(&e[2]["to_world"], &[0., 0., 1., 0., 0., 1., 0., 0., -1., 0., 0., 0., 0., 0., 0., 1.]);
 }
+
+// Dielectrics.
+
+/// Bad indices of refraction and roughness: exit code 2, the file and the field named, and the
+/// valid names listed where a name was misspelt.
+#[test]
+fn bad_dielectric_parameters() {
+    let glass = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    assert_input_error(
+        "ior name",
+        &glass("Dielectric(int_ior: Named(\"watter\"))"),
+        &[],
+        &[
+            "scene.ron",
+            "materials.\"grey\".int_ior",
+            "watter",
+            "water",
+            "diamond",
+        ],
+    );
+    assert_input_error(
+        "glass name",
+        &glass("RoughDielectric(int_ior: Glass(\"BK8\"))"),
+        &[],
+        &["materials.\"grey\".int_ior", "BK8", "N-BK7", "N-SF11"],
+    );
+    assert_input_error(
+        "ior zero",
+        &glass("Dielectric(ext_ior: 0)"),
+        &[],
+        &["materials.\"grey\".ext_ior", "> 0"],
+    );
+    assert_input_error(
+        "ior nan",
+        &glass("ThinDielectric(int_ior: NaN)"),
+        &[],
+        &["materials.\"grey\".int_ior", "finite"],
+    );
+    assert_input_error(
+        "ior negative cauchy",
+        &glass("Dielectric(int_ior: Cauchy(a: -1.5, b: 0.004))"),
+        &[],
+        &["materials.\"grey\".int_ior", "> 0"],
+    );
+    assert_input_error(
+        "ior table too short",
+        &glass("Dielectric(int_ior: Spectrum(Tabulated([(450, 1.52), (650, 1.51)])))"),
+        &[],
+        &["materials.\"grey\".int_ior", "cover"],
+    );
+    assert_input_error(
+        "ior sellmeier pole",
+        &glass("Dielectric(int_ior: Sellmeier(b: (1, 0, 0), c: (0.25, 0, 0)))"),
+        &[],
+        &["materials.\"grey\".int_ior", "pole"],
+    );
+    assert_input_error(
+        "ior rgb",
+        &glass("Dielectric(int_ior: Spectrum(Rgb(1, 1, 1)))"),
+        &[],
+        &["materials.\"grey\".int_ior", "RGB"],
+    );
+    assert_input_error(
+        "ior misspelt form",
+        &glass("Dielectric(int_ior: Glas(\"BK7\"))"),
+        &[],
+        &["scene.ron:", "index of refraction"],
+    );
+    assert_input_error(
+        "alpha negative",
+        &glass("RoughDielectric(alpha: -0.1)"),
+        &[],
+        &["materials.\"grey\".alpha", "(0, 1]", "Dielectric"],
+    );
+    assert_input_error(
+        "alpha both",
+        &glass("RoughDielectric(alpha: 0.1, alpha_u: 0.2, alpha_v: 0.1)"),
+        &[],
+        &["materials.\"grey\"", "alpha_u"],
+    );
+    assert_input_error(
+        "alpha half",
+        &glass("RoughDielectric(alpha_u: 0.2)"),
+        &[],
+        &["materials.\"grey\"", "both `alpha_u` and `alpha_v`"],
+    );
+    assert_input_error(
+        "index matched",
+        &glass("RoughDielectric(int_ior: 1.333, ext_ior: \"water\")"),
+        &[],
+        &["materials.\"grey\"", "differ"],
+    );
+}
+
+/// Every IOR form a scene may write renders (Mitsuba's string names included).
+#[test]
+fn dielectric_forms_render() {
+    for m in [
+        "Dielectric()",
+        "Dielectric(int_ior: \"water\", ext_ior: \"air\")",
+        "Dielectric(int_ior: Value(1.7), ext_ior: 1)",
+        "RoughDielectric(distribution: Ggx, alpha_u: 0.05, alpha_v: 0.2, int_ior: Glass(\"fused silica\"))",
+        "RoughDielectric(alpha: Checkerboard(value0: 0.05, value1: 0.3), int_ior: Sellmeier(b: (1.03961212, 0.231792344, 1.01046945), c: (0.00600069867, 0.0200179144, 103.560653)))",
+        "ThinDielectric(int_ior: Cauchy(a: 1.5046, b: 0.0042), specular_transmittance: Rgb(0.9, 0.8, 0.7))",
+        "Dielectric(int_ior: Spectrum(Tabulated([(300, 1.53), (900, 1.50)])))",
+    ] {
+        let (code, err, written) = run(
+            "forms",
+            &GOOD.replace("Diffuse(reflectance: Constant(0.5))", m),
+            &[],
+        );
+        assert!(code == 0 && written, "{m}: exit {code}\n{err}");
+    }
+}
+
+/// `prism export` writes a dielectric's indices as Mitsuba takes them: numbers when the
+/// interface is not dispersive; otherwise both sides as spectra (a tabulated glass, a
+/// constant air) and `"dispersive": true`. Tolerance: 1e-6 on n (JSON round trip of f32).
+#[test]
+fn export_writes_dielectric_iors() {
+    let dir = workdir("export");
+    let scene = dir.join("scene.ron");
+    let text = GOOD
+        .replace(
+            r#"materials: { "grey": Diffuse(reflectance: Constant(0.5)) }"#,
+            r#"materials: {
+                "a": Dielectric(int_ior: "water"),
+                "b": RoughDielectric(distribution: Ggx, alpha_u: 0.05, alpha_v: 0.2, int_ior: Glass("BK7")),
+                "c": ThinDielectric(int_ior: 1.6, ext_ior: 1.1),
+            }"#,
+        )
+        .replace(
+            r#"shapes: [(shape: Sphere(center: (0, 0, 4)), material: "grey")]"#,
+            r#"shapes: [
+                (shape: Sphere(center: (0, 0, 4)), material: "a"),
+                (shape: Sphere(center: (1, 0, 4)), material: "b"),
+                (shape: Sphere(center: (2, 0, 4)), material: "c"),
+            ]"#,
+        );
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("exported");
+    let o = prism()
+        .arg("export")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("scene.json")).unwrap()).unwrap();
+    let m = &json["materials"];
+    let close = |v: &serde_json::Value, x: f64| (v.as_f64().unwrap() - x).abs() < 1e-6;
+    assert_eq!(m[0]["type"], "dielectric");
+    assert!(close(&m[0]["int_ior"], 1.333) && close(&m[0]["ext_ior"], 1.000277));
+    assert_eq!(m[0]["dispersive"], false);
+    assert_eq!(m[0]["specular_transmittance"]["type"], "constant");
+    assert_eq!(m[1]["type"], "roughdielectric");
+    assert_eq!(m[1]["distribution"], "ggx");
+    assert!(close(&m[1]["alpha_u"]["value"], 0.05) && close(&m[1]["alpha_v"]["value"], 0.2));
+    assert_eq!(m[1]["dispersive"], true);
+    assert_eq!(m[1]["ext_ior"]["type"], "constant");
+    assert!(close(&m[1]["ext_ior"]["value"], 1.000277));
+    let (nm, n) = (&m[1]["int_ior"]["wavelengths"], &m[1]["int_ior"]["values"]);
+    assert_eq!(m[1]["int_ior"]["type"], "irregular");
+    // N-BK7 at the helium d line, 587.56 nm: the table's neighbours bracket n_d = 1.51680.
+    let i = nm
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|w| w.as_f64().unwrap() >= 587.5)
+        .unwrap();
+    let (lo, hi) = (n[i].as_f64().unwrap(), n[i - 1].as_f64().unwrap());
+    assert!(lo < 1.51680 && 1.51680 < hi + 1e-5, "{lo} {hi}");
+    assert_eq!(m[2]["type"], "thindielectric");
+    assert!(close(&m[2]["int_ior"], 1.6) && close(&m[2]["ext_ior"], 1.1));
+}
+
+/// Plastics take a dielectric's index forms (numbers, names) but, as in Mitsuba, only
+/// constant ones: a dispersive index is an input error naming the field.
+#[test]
+fn plastic_iors() {
+    let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);
+    for m in [
+        "Plastic(int_ior: \"bk7\")",
+        "RoughPlastic(int_ior: Named(\"acrylic glass\"), ext_ior: \"water\")",
+        "Plastic(int_ior: 1.6, ext_ior: Spectrum(Constant(1.0)))",
+    ] {
+        let (code, err, written) = run("plastic ior", &with(m), &[]);
+        assert!(code == 0 && written, "{m}: exit {code}\n{err}");
+    }
+    assert_input_error(
+        "dispersive plastic",
+        &with("RoughPlastic(int_ior: Glass(\"SF11\"))"),
+        &[],
+        &[
+            "materials.\"grey\".int_ior",
+            "varies with wavelength",
+            "Dielectric",
+        ],
+    );
+    assert_input_error(
+        "cauchy plastic",
+        &with("Plastic(ext_ior: Cauchy(a: 1.3, b: 0.003))"),
+        &[],
+        &["materials.\"grey\".ext_ior", "one number"],
+    );
+    assert_input_error(
+        "unknown plastic ior",
+        &with("Plastic(int_ior: \"polypropylen\")"),
+        &[],
+        &["materials.\"grey\".int_ior", "polypropylene"],
+    );
+}

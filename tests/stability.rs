@@ -238,3 +238,88 @@ fn clamp_is_opt_in_and_only_removes_energy() {
         assert!(c <= p, "a clamped pixel is brighter: {c} > {p}");
     }
 }
+
+/// An index-matched smooth dielectric (IOR 1 inside and out) is invisible: the image equals
+/// the scene without it within noise, tile by tile. Each side is 6 renders with independent
+/// seeds; a pixel's noise is its spread across them, a tile's (8 × 8 pixels) the sum of its
+/// pixels'. Tolerance |z| ≤ 4.5 over 12 tiles: a correct renderer exceeds it with probability
+/// below 1e-4. An index of 1.02 (a sphere that reflects 0.01% at normal incidence and bends
+/// light by ~1°) fails it.
+#[test]
+fn index_matched_sphere_is_invisible() {
+    let worst = index_matched_worst_z("1.0");
+    println!("index-matched sphere: largest tile |z| {worst:.2}");
+    assert!(
+        worst <= 4.5,
+        "the index-matched sphere is visible (|z| = {worst:.2})"
+    );
+}
+
+fn index_matched_worst_z(ior: &str) -> f64 {
+    let scene = |sphere: bool, seed: u32| {
+        format!(
+            r#"(
+            camera: (fov: 35, to_world: [LookAt(origin: (0, 1.3, 4), target: (0, 0.55, 0), up: (0, 1, 0))]),
+            film: (width: 32, height: 24, filter: Box()),
+            sampler: (spp: 32, seed: {seed}),
+            integrator: (max_depth: 8),
+            outputs: (bands: 0, rgb: false),
+            materials: {{ "matched": Dielectric(int_ior: {ior}, ext_ior: 1.0), "floor": Diffuse(reflectance: Constant(0.6)) }},
+            shapes: [
+                (shape: Rectangle, material: "floor", to_world: [Scale((4, 4, 1)), Rotate(axis: (1, 0, 0), angle: -90)]),
+                {s}
+                (shape: Rectangle, emitter: (radiance: Scaled(8, Named("D65"))), to_world: [Scale((0.3, 0.3, 1)), Rotate(axis: (1, 0, 0), angle: 90), Translate((1, 2.5, 1))]),
+            ],
+            emitters: [Constant(radiance: Scaled(0.4, Named("D65")))],
+        )"#,
+            s = if sphere {
+                r#"(shape: Sphere(center: (0, 0.6, 0), radius: 0.55), material: "matched"),"#
+            } else {
+                ""
+            }
+        )
+    };
+    const K: u32 = 6;
+    // Per pixel: mean over the K renders and the variance of that mean.
+    let stats = |sphere: bool| {
+        let imgs: Vec<Vec<f64>> = (0..K)
+            .map(|k| {
+                let (f, _) = render(&scene(sphere, 10 + k + if sphere { 0 } else { K }));
+                f.channel("Y").unwrap().iter().map(|&v| v as f64).collect()
+            })
+            .collect();
+        (0..imgs[0].len())
+            .map(|i| {
+                let m = imgs.iter().map(|im| im[i]).sum::<f64>() / K as f64;
+                let v = imgs.iter().map(|im| (im[i] - m).powi(2)).sum::<f64>() / (K - 1) as f64;
+                (m, v / K as f64)
+            })
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (stats(true), stats(false));
+    let mut worst = 0.0f64;
+    for ty in 0..3 {
+        for tx in 0..4 {
+            let tile = |px: &[(f64, f64)]| {
+                (0..64).fold((0.0, 0.0), |(m, v), i| {
+                    let (pm, pv) = px[(ty * 8 + i / 8) * 32 + tx * 8 + i % 8];
+                    (m + pm / 64.0, v + pv / 4096.0)
+                })
+            };
+            let ((ma, va), (mb, vb)) = (tile(&a), tile(&b));
+            worst = worst.max(((ma - mb) / (va + vb).sqrt().max(1e-12)).abs());
+        }
+    }
+    worst
+}
+
+/// The test above has the power to see a nearly index-matched sphere.
+#[test]
+fn index_matched_test_sees_a_weak_sphere() {
+    let worst = index_matched_worst_z("1.02");
+    println!("IOR 1.02 sphere: largest tile |z| {worst:.2}");
+    assert!(
+        worst > 4.5,
+        "an IOR 1.02 sphere went unnoticed (|z| = {worst:.2})"
+    );
+}

@@ -16,24 +16,29 @@
 //! lanes by spectral MIS with them (Wilkie et al. 2014).
 
 mod conductor;
+pub mod dielectric;
 mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
 mod plastic;
 mod roughconductor;
+pub mod roughdielectric;
 pub mod roughplastic;
+pub mod thindielectric;
 
 use crate::interaction::SurfaceInteraction;
-use crate::spectrum::{Spectrum, Wavelengths};
+use crate::spectrum::{RelativeIor, Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture};
 pub use conductor::{Conductor, ConductorParams};
+pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
-
 use microfacet::{Distribution, Microfacet};
 pub use plastic::Plastic;
 pub use roughconductor::RoughConductor;
+pub use roughdielectric::RoughDielectric;
 pub use roughplastic::RoughPlastic;
+pub use thindielectric::ThinDielectric;
 
 /// Most leaf lobes one material may combine (blends and masks of blends…).
 pub const MAX_LOBES: usize = 4;
@@ -71,6 +76,27 @@ pub enum Material {
         alpha_v: FloatTexture,
     },
     // Dielectrics.
+    /// A smooth dielectric interface (Mitsuba's `dielectric`).
+    Dielectric {
+        ior: RelativeIor,
+        specular_reflectance: SpectralTexture,
+        specular_transmittance: SpectralTexture,
+    },
+    /// A rough dielectric interface (Mitsuba's `roughdielectric`).
+    RoughDielectric {
+        ior: RelativeIor,
+        distribution: Distribution,
+        alpha_u: FloatTexture,
+        alpha_v: FloatTexture,
+        specular_reflectance: SpectralTexture,
+        specular_transmittance: SpectralTexture,
+    },
+    /// An infinitely thin dielectric slab (Mitsuba's `thindielectric`).
+    ThinDielectric {
+        ior: RelativeIor,
+        specular_reflectance: SpectralTexture,
+        specular_transmittance: SpectralTexture,
+    },
     // Plastics.
     /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
     Plastic {
@@ -116,6 +142,9 @@ pub enum Lobe<'a, const N: usize> {
     /// Microfacet reflection, Fresnel-weighted per wavelength.
     RoughConductor(RoughConductor<N>),
     // Dielectrics.
+    Dielectric(Dielectric<N>),
+    RoughDielectric(RoughDielectric<N>),
+    ThinDielectric(ThinDielectric<N>),
     // Plastics.
     Plastic(Plastic<N>),
     RoughPlastic(RoughPlastic<'a, N>),
@@ -190,6 +219,45 @@ impl Material {
             }),
             // Conductors.
             // Dielectrics.
+            Material::Dielectric {
+                ior,
+                specular_reflectance,
+                specular_transmittance,
+            } => Lobe::Dielectric(Dielectric {
+                eta: ior.eta(wl),
+                reflectance: specular_reflectance.eval(si.uv, wl),
+                transmittance: specular_transmittance.eval(si.uv, wl),
+                dispersive: ior.dispersive(),
+            }),
+            Material::RoughDielectric {
+                ior,
+                distribution,
+                alpha_u,
+                alpha_v,
+                specular_reflectance,
+                specular_transmittance,
+            } => Lobe::RoughDielectric(RoughDielectric {
+                eta: ior.eta(wl),
+                reflectance: specular_reflectance.eval(si.uv, wl),
+                transmittance: specular_transmittance.eval(si.uv, wl),
+                // Texture values outside [0, 1] are clamped, as for conductors.
+                dist: Microfacet::new(
+                    *distribution,
+                    alpha_u.eval(si.uv).clamp(0.0, 1.0),
+                    alpha_v.eval(si.uv).clamp(0.0, 1.0),
+                ),
+                dispersive: ior.dispersive(),
+            }),
+            Material::ThinDielectric {
+                ior,
+                specular_reflectance,
+                specular_transmittance,
+            } => Lobe::ThinDielectric(ThinDielectric {
+                eta: ior.eta(wl),
+                reflectance: specular_reflectance.eval(si.uv, wl),
+                transmittance: specular_transmittance.eval(si.uv, wl),
+                dispersive: ior.dispersive(),
+            }),
             // Plastics.
             Material::Plastic {
                 diffuse,
@@ -277,6 +345,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
             Lobe::Conductor(_) => Spectrum::zero(),
             Lobe::RoughConductor(b) => b.eval(wi, wo),
             // Dielectrics.
+            Lobe::RoughDielectric(b) => b.eval(wi, wo),
+            Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => Spectrum::zero(),
             // Plastics.
             Lobe::Plastic(b) => b.eval(wi, wo),
             Lobe::RoughPlastic(b) => b.eval(wi, wo),
@@ -293,6 +363,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
             Lobe::Conductor(_) => 0.0,
             Lobe::RoughConductor(b) => b.pdf(wi, wo),
             // Dielectrics.
+            Lobe::RoughDielectric(b) => b.pdf(wi, wo),
+            Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => 0.0,
             // Plastics.
             Lobe::Plastic(b) => b.pdf(wi, wo),
             Lobe::RoughPlastic(b) => b.pdf(wi, wo),
@@ -308,6 +380,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
             // Conductors.
             Lobe::Conductor(_) | Lobe::RoughConductor(_) => Spectrum::splat(self.pdf(wi, wo)),
             // Dielectrics.
+            Lobe::RoughDielectric(b) => b.pdf_lanes(wi, wo),
+            Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => Spectrum::zero(),
             // Plastics.
             Lobe::Plastic(_) | Lobe::RoughPlastic(_) => Spectrum::splat(self.pdf(wi, wo)),
         }
@@ -321,6 +395,9 @@ impl<'a, const N: usize> Lobe<'a, N> {
             Lobe::Conductor(b) => b.sample(wi, uc, u),
             Lobe::RoughConductor(b) => b.sample(wi, uc, u),
             // Dielectrics.
+            Lobe::Dielectric(b) => b.sample(wi, uc, u),
+            Lobe::RoughDielectric(b) => b.sample(wi, uc, u),
+            Lobe::ThinDielectric(b) => b.sample(wi, uc, u),
             // Plastics.
             Lobe::Plastic(b) => b.sample(wi, uc, u),
             Lobe::RoughPlastic(b) => b.sample(wi, uc, u),
@@ -344,6 +421,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
             Lobe::Conductor(_) => false,
             Lobe::RoughConductor(_) => true,
             // Dielectrics.
+            Lobe::RoughDielectric(_) => true,
+            Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => false,
             // Plastics.
             Lobe::Plastic(_) | Lobe::RoughPlastic(_) => true,
             Lobe::Null => false,
@@ -358,6 +437,9 @@ impl<'a, const N: usize> Lobe<'a, N> {
             // Conductors.
             Lobe::Conductor(_) | Lobe::RoughConductor(_) => false,
             // Dielectrics.
+            Lobe::Dielectric(b) => b.dispersive,
+            Lobe::RoughDielectric(b) => b.dispersive,
+            Lobe::ThinDielectric(b) => b.dispersive,
             // Plastics.
             Lobe::Plastic(_) | Lobe::RoughPlastic(_) => false,
         }

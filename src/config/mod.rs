@@ -11,6 +11,7 @@
 //! )
 //! ```
 
+pub mod ior;
 mod parse;
 pub mod spectrum;
 
@@ -22,6 +23,7 @@ use crate::integrator::{Dispersion, PathSettings};
 use crate::sampler::SamplerKind;
 use crate::spectrum::WavelengthSampling;
 use crate::texture::{TexFilter, Wrap};
+pub use ior::{IorConfig, IorForm};
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
 pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig};
@@ -256,19 +258,80 @@ pub enum MaterialConfig {
         specular_reflectance: SpectrumConfig,
     },
     // Dielectrics.
+    /// A smooth interface between two dielectrics (Mitsuba's `dielectric`): glass, water.
+    /// `int_ior` default `"bk7"` (1.5046), `ext_ior` default `"air"` (1.000277), the exterior
+    /// being the side the normal points to; `specular_reflectance` and `specular_transmittance`
+    /// (default `Constant(1)`) scale the two lobes and should stay 1 for physical realism.
+    ///
+    /// ```ron
+    /// Dielectric(int_ior: Glass("SF11"), ext_ior: Named("air"))
+    /// ```
+    Dielectric {
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
+    /// A rough dielectric interface (Mitsuba's `roughdielectric`, Walter et al. 2007):
+    /// `distribution` `Beckmann` (default) or `Ggx`; `alpha` (default 0.1) or both `alpha_u` and
+    /// `alpha_v` (anisotropic); IORs and specular factors as `Dielectric`.
+    ///
+    /// ```ron
+    /// RoughDielectric(distribution: Ggx, alpha: 0.05, int_ior: Glass("BK7"))
+    /// ```
+    RoughDielectric {
+        #[serde(default)]
+        distribution: Distribution,
+        #[serde(default)]
+        alpha: Option<FloatConfig>,
+        #[serde(default)]
+        alpha_u: Option<FloatConfig>,
+        #[serde(default)]
+        alpha_v: Option<FloatConfig>,
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
+    /// An infinitely thin dielectric slab, e.g. a window pane modelled as one sheet
+    /// (Mitsuba's `thindielectric`): specular reflection, undeflected transmission. Parameters
+    /// as `Dielectric`.
+    ///
+    /// ```ron
+    /// ThinDielectric(int_ior: Named("bk7"))
+    /// ```
+    ThinDielectric {
+        #[serde(default = "bk7")]
+        int_ior: IorConfig,
+        #[serde(default = "air")]
+        ext_ior: IorConfig,
+        #[serde(default = "unit")]
+        specular_reflectance: SpectrumConfig,
+        #[serde(default = "unit")]
+        specular_transmittance: SpectrumConfig,
+    },
     // Plastics.
     /// A smooth dielectric coating over a diffuse base (Mitsuba's `plastic`).
-    /// Defaults: diffuse_reflectance 0.5, specular_reflectance 1, int_ior 1.49
-    /// (polypropylene), ext_ior 1.000277 (air), nonlinear false.
+    /// Defaults: diffuse_reflectance 0.5, specular_reflectance 1, int_ior `"polypropylene"`
+    /// (1.49), ext_ior `"air"` (1.000277), nonlinear false. The indices are written as a
+    /// dielectric's (a number or a name) but must not vary with wavelength, as in Mitsuba.
     Plastic {
         #[serde(default = "half_grey")]
         diffuse_reflectance: SpectrumConfig,
         #[serde(default = "one_spectrum")]
         specular_reflectance: SpectrumConfig,
         #[serde(default = "polypropylene")]
-        int_ior: f32,
+        int_ior: IorConfig,
         #[serde(default = "air")]
-        ext_ior: f32,
+        ext_ior: IorConfig,
         #[serde(default)]
         nonlinear: bool,
     },
@@ -284,9 +347,9 @@ pub enum MaterialConfig {
         #[serde(default = "one_spectrum")]
         specular_reflectance: SpectrumConfig,
         #[serde(default = "polypropylene")]
-        int_ior: f32,
+        int_ior: IorConfig,
         #[serde(default = "air")]
-        ext_ior: f32,
+        ext_ior: IorConfig,
         #[serde(default)]
         nonlinear: bool,
     },
@@ -296,16 +359,25 @@ fn one_spectrum() -> SpectrumConfig {
     SpectrumConfig::Constant(1.0)
 }
 
-fn polypropylene() -> f32 {
-    1.49
-}
-
-fn air() -> f32 {
-    1.000_277
+fn polypropylene() -> IorConfig {
+    IorConfig::named("polypropylene")
 }
 
 fn point_one() -> f32 {
     0.1
+}
+
+// Dielectrics.
+fn bk7() -> IorConfig {
+    IorConfig::named("bk7")
+}
+
+fn air() -> IorConfig {
+    IorConfig::named("air")
+}
+
+fn unit() -> SpectrumConfig {
+    SpectrumConfig::Constant(1.0)
 }
 
 fn half_grey() -> SpectrumConfig {

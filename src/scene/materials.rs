@@ -3,11 +3,11 @@
 use crate::bsdf::microfacet::Microfacet;
 use crate::bsdf::{fresnel, roughplastic, ConductorParams, Material, MAX_LOBES};
 use crate::config::{
-    spectrum::uv_map, spectrum_ctx, FloatConfig, FloatTextureConfig, MaterialConfig, Role,
-    SpectrumConfig,
+    spectrum::uv_map, spectrum_ctx, FloatConfig, FloatTextureConfig, IorConfig, MaterialConfig,
+    Role, SpectrumConfig,
 };
 use crate::error::InputError;
-use crate::spectrum::{metals, Curve};
+use crate::spectrum::{metals, Curve, Ior, RelativeIor};
 use crate::texture::{self, FloatTexture, SpectralTexture};
 use std::path::Path;
 
@@ -113,6 +113,82 @@ fn build(
             warnings,
         )?),
         // Dielectrics.
+        MaterialConfig::Dielectric {
+            int_ior,
+            ext_ior,
+            specular_reflectance,
+            specular_transmittance,
+        } => {
+            let (r, t) = specular(
+                specular_reflectance,
+                specular_transmittance,
+                field,
+                file,
+                range,
+                warnings,
+            )?;
+            Material::Dielectric {
+                ior: relative_ior(int_ior, ext_ior, field, file, range)?,
+                specular_reflectance: r,
+                specular_transmittance: t,
+            }
+        }
+        MaterialConfig::RoughDielectric {
+            distribution,
+            alpha,
+            alpha_u,
+            alpha_v,
+            int_ior,
+            ext_ior,
+            specular_reflectance,
+            specular_transmittance,
+        } => {
+            let ior = relative_ior(int_ior, ext_ior, field, file, range)?;
+            if let (Ior::Constant(a), Ior::Constant(b)) = (&ior.int, &ior.ext) {
+                if a == b {
+                    return Err(InputError::new(file, format!("int_ior and ext_ior are both {a}: a rough interface needs different indices (as in Mitsuba)"))
+                        .field(field)
+                        .hint("an index-matched interface is invisible; leave the shape out, or use Mask(opacity: 0, ...)"));
+                }
+            }
+            let (alpha_u, alpha_v) = roughnesses(alpha, alpha_u, alpha_v, field, file)?;
+            let (r, t) = specular(
+                specular_reflectance,
+                specular_transmittance,
+                field,
+                file,
+                range,
+                warnings,
+            )?;
+            Material::RoughDielectric {
+                ior,
+                distribution: *distribution,
+                alpha_u,
+                alpha_v,
+                specular_reflectance: r,
+                specular_transmittance: t,
+            }
+        }
+        MaterialConfig::ThinDielectric {
+            int_ior,
+            ext_ior,
+            specular_reflectance,
+            specular_transmittance,
+        } => {
+            let (r, t) = specular(
+                specular_reflectance,
+                specular_transmittance,
+                field,
+                file,
+                range,
+                warnings,
+            )?;
+            Material::ThinDielectric {
+                ior: relative_ior(int_ior, ext_ior, field, file, range)?,
+                specular_reflectance: r,
+                specular_transmittance: t,
+            }
+        }
         // Plastics.
         MaterialConfig::Plastic {
             diffuse_reflectance,
@@ -121,7 +197,7 @@ fn build(
             ext_ior,
             nonlinear,
         } => {
-            let eta = relative_ior(*int_ior, *ext_ior, field, file)?;
+            let eta = plastic_eta(int_ior, ext_ior, field, file, range)?;
             let diffuse = diffuse_reflectance.resolve_texture(
                 Role::Reflectance,
                 &spectrum_ctx(file, &ctx("diffuse_reflectance"), range),
@@ -150,7 +226,7 @@ fn build(
             ext_ior,
             nonlinear,
         } => {
-            let eta = relative_ior(*int_ior, *ext_ior, field, file)?;
+            let eta = plastic_eta(int_ior, ext_ior, field, file, range)?;
             check_alpha(*alpha, &ctx("alpha"), file)?;
             let microfacet = Microfacet::new(*distribution, *alpha, *alpha);
             let diffuse = diffuse_reflectance.resolve_texture(
@@ -292,7 +368,7 @@ fn roughness(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, 
         } else {
             Err(InputError::new(file, format!("roughness {v} is not in (0, 1]"))
                 .field(field)
-                .hint("0 is a smooth surface (use Conductor); Mitsuba calls 0.1 relatively rough and 0.3–0.7 extremely rough"))
+                .hint("0 is a smooth surface (use Conductor or Dielectric); Mitsuba calls 0.1 relatively rough and 0.3–0.7 extremely rough"))
         }
     };
     match f {
@@ -307,6 +383,42 @@ fn roughness(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, 
         }
         FloatConfig::Texture(FloatTextureConfig::Bitmap { .. }) => float(f, field, file),
     }
+}
+
+// Dielectrics.
+/// n_int / n_ext of a dielectric, each checked over the render range.
+fn relative_ior(
+    int: &IorConfig,
+    ext: &IorConfig,
+    field: &str,
+    file: &Path,
+    range: (f32, f32),
+) -> Result<RelativeIor, InputError> {
+    let int = int.resolve(&spectrum_ctx(file, &format!("{field}.int_ior"), range))?;
+    let ext = ext.resolve(&spectrum_ctx(file, &format!("{field}.ext_ior"), range))?;
+    Ok(RelativeIor::new(int, ext))
+}
+
+/// A dielectric's `specular_reflectance` and `specular_transmittance` (reflectances, in [0, 1]).
+fn specular(
+    r: &SpectrumConfig,
+    t: &SpectrumConfig,
+    field: &str,
+    file: &Path,
+    range: (f32, f32),
+    warnings: &mut Vec<String>,
+) -> Result<(SpectralTexture, SpectralTexture), InputError> {
+    let resolve = |s: &SpectrumConfig, name: &str, warnings: &mut Vec<String>| {
+        s.resolve_texture(
+            Role::Reflectance,
+            &spectrum_ctx(file, &format!("{field}.{name}"), range),
+            warnings,
+        )
+    };
+    Ok((
+        resolve(r, "specular_reflectance", warnings)?,
+        resolve(t, "specular_transmittance", warnings)?,
+    ))
 }
 
 /// A scalar parameter in [0, 1] (a blend weight, an opacity).
@@ -360,17 +472,30 @@ fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, Inpu
     })
 }
 
-/// η = int / ext, both positive and finite.
-fn relative_ior(int: f32, ext: f32, field: &str, file: &Path) -> Result<f32, InputError> {
-    for (v, name) in [(int, "int_ior"), (ext, "ext_ior")] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(
-                InputError::new(file, format!("{name} {v} must be a positive number"))
-                    .field(format!("{field}.{name}")),
-            );
+// Plastics.
+/// A plastic's relative index η = int / ext. Mitsuba's plastics take scalar indices, so a
+/// dispersive one (a glass, Sellmeier, Cauchy, a varying table) is refused.
+fn plastic_eta(
+    int: &IorConfig,
+    ext: &IorConfig,
+    field: &str,
+    file: &Path,
+    range: (f32, f32),
+) -> Result<f32, InputError> {
+    let one = |c: &IorConfig, name: &str| {
+        let sub = format!("{field}.{name}");
+        let ior = c.resolve(&spectrum_ctx(file, &sub, range))?;
+        if !ior.is_constant() {
+            return Err(InputError::new(
+                file,
+                format!("a plastic's {name} must be one number, but this index varies with wavelength"),
+            )
+            .field(sub)
+            .hint("plastics (as Mitsuba's) take a constant index: write a number (1.5) or a name (\"bk7\", \"polypropylene\"); for dispersion use Dielectric or RoughDielectric"));
         }
-    }
-    Ok(int / ext)
+        Ok(ior.eval_one(0.5 * (range.0 + range.1)))
+    };
+    Ok(one(int, "int_ior")? / one(ext, "ext_ior")?)
 }
 
 /// Microfacet roughness: Mitsuba accepts any positive value; above 1 the models leave their

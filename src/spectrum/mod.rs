@@ -4,6 +4,7 @@
 pub mod color;
 pub mod curve;
 pub mod data;
+pub mod ior;
 pub mod metals;
 pub mod rgb2spec;
 pub mod rgb2spec_fit;
@@ -12,5 +13,6 @@ pub mod table;
 pub mod wavelengths;
 
 pub use curve::Curve;
+pub use ior::{Ior, RelativeIor};
 pub use sampled::Spectrum;
 pub use wavelengths::{WavelengthSampler, WavelengthSampling, Wavelengths};

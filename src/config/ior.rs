@@ -1,0 +1,128 @@
+//! How a scene writes an index of refraction, and its resolution into an `Ior` checked over the
+//! render's wavelength range (finite and > 0 everywhere).
+
+use super::spectrum::{Context, Role, SpectrumConfig};
+use crate::error::InputError;
+use crate::spectrum::Ior;
+use serde::{Deserialize, Serialize};
+
+/// An index of refraction in a scene file (the `int_ior` and `ext_ior` of dielectrics, and of
+/// plastics, which take constant ones only).
+///
+/// ```ron
+/// 1.5                                   // a number
+/// "water"                               // one of Mitsuba 3's named values (same as Named)
+/// Named("fused quartz")                 // Mitsuba 3's named values: vacuum, air, water, bk7, diamond, …
+/// Glass("SF11")                         // a dispersive glass of spectra/glasses.txt (Sellmeier)
+/// Sellmeier(b: (1.0396, 0.2318, 1.0105), c: (0.0060, 0.0200, 103.56))  // λ in µm, c in µm²
+/// Cauchy(a: 1.5046, b: 0.0042)          // n = a + b/λ², λ in µm
+/// Spectrum(Tabulated([(400, 1.53), (700, 1.51)]))  // n(λ) as a spectrum (nm, value)
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "an index of refraction: a number (1.5), a name (\"water\"), Named(\"water\"), Glass(\"BK7\"), Sellmeier(b: (..), c: (..)), Cauchy(a: .., b: ..) or Spectrum(...)"
+)]
+pub enum IorConfig {
+    Value(f32),
+    Name(String),
+    Form(IorForm),
+}
+
+/// The written-out forms of `IorConfig`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum IorForm {
+    Value(f32),
+    /// Mitsuba 3's named constants (case-insensitive).
+    Named(String),
+    /// A dispersive glass from `spectra/glasses.txt`.
+    Glass(String),
+    /// n² = 1 + Σ bᵢλ²/(λ² − cᵢ), λ in µm; three terms (unused ones 0).
+    Sellmeier {
+        b: [f32; 3],
+        c: [f32; 3],
+    },
+    /// n = a + b/λ², λ in µm.
+    Cauchy {
+        a: f32,
+        b: f32,
+    },
+    /// A tabulated or file spectrum of n over wavelength.
+    Spectrum(SpectrumConfig),
+}
+
+impl IorConfig {
+    pub fn named(name: &str) -> Self {
+        IorConfig::Form(IorForm::Named(name.into()))
+    }
+
+    /// Resolves to an `Ior` that is finite and > 0 over `ctx.range`.
+    pub fn resolve(&self, ctx: &Context) -> Result<Ior, InputError> {
+        let err = |m: String| InputError::new(ctx.file, m).field(ctx.field);
+        let ior = match self {
+            IorConfig::Value(v) | IorConfig::Form(IorForm::Value(v)) => Ior::Constant(*v),
+            IorConfig::Name(name) | IorConfig::Form(IorForm::Named(name)) => Ior::named(name)
+                .ok_or_else(|| {
+                    err(format!("unknown index of refraction name \"{name}\"")).hint(format!(
+                        "the named values (Mitsuba 3's) are: {}; dispersive glasses are written Glass(\"…\"): {}",
+                        Ior::names().join(", "),
+                        Ior::glass_names().join(", ")
+                    ))
+                })?,
+            IorConfig::Form(IorForm::Glass(name)) => Ior::glass(name).ok_or_else(|| {
+                err(format!("unknown glass \"{name}\"")).hint(format!(
+                    "the glasses (spectra/glasses.txt) are: {}; constant named values are written Named(\"…\")",
+                    Ior::glass_names().join(", ")
+                ))
+            })?,
+            IorConfig::Form(IorForm::Sellmeier { b, c }) => {
+                if b.iter().chain(c).any(|v| !v.is_finite()) {
+                    return Err(err(format!(
+                        "Sellmeier coefficients b {b:?}, c {c:?} must be finite"
+                    )));
+                }
+                Ior::Sellmeier { b: *b, c: *c }
+            }
+            IorConfig::Form(IorForm::Cauchy { a, b }) => {
+                if !(a.is_finite() && b.is_finite()) {
+                    return Err(err(format!(
+                        "Cauchy coefficients a = {a}, b = {b} must be finite"
+                    )));
+                }
+                Ior::Cauchy { a: *a, b: *b }
+            }
+            IorConfig::Form(IorForm::Spectrum(s)) => {
+                if matches!(
+                    s,
+                    SpectrumConfig::Rgb(..)
+                        | SpectrumConfig::Named(_)
+                        | SpectrumConfig::Blackbody(_)
+                ) {
+                    return Err(err("an index of refraction cannot be an RGB colour, an illuminant or a blackbody".into())
+                        .hint("write Spectrum(Tabulated([(nm, n), ...])), Spectrum(File(path: ...)) or Spectrum(Constant(n))"));
+                }
+                // Emission's checks (finite, ≥ 0) apply; > 0 is checked below.
+                let mut notes = Vec::new();
+                Ior::Curve(s.resolve(Role::Emission, ctx, &mut notes)?)
+            }
+        };
+        let (lo, hi) = ctx.range;
+        let (min, max) = ior.min_max(lo, hi);
+        if !(min.is_finite() && max.is_finite()) {
+            return Err(err(format!(
+                "the index of refraction is not a finite number somewhere in {lo}–{hi} nm"
+            ))
+            .hint("a Sellmeier cᵢ equal to some λ² (in µm²) inside the range makes a pole; check the coefficients' units"));
+        }
+        if min <= 0.0 {
+            return Err(err(format!(
+                "an index of refraction must be > 0, but this one reaches {min} in {lo}–{hi} nm"
+            ))
+            .hint(
+                "a tabulated index must cover the whole spectral range (it is 0 outside its data)",
+            ));
+        }
+        Ok(ior)
+    }
+}
