@@ -200,6 +200,8 @@ def material(m: dict[str, Any]) -> dict[str, Any]:
             d.update(distribution=m["distribution"], alpha=float(m["alpha"]))
         return d
     if kind in ("dielectric", "thindielectric", "roughdielectric"):
+        if m.get("dispersive"):
+            raise Dispersive(f"{kind} with a wavelength-dependent index of refraction (dispersion)")
         d = {"type": kind, "int_ior": _ior(m["int_ior"], f"{kind} int_ior"), "ext_ior": _ior(m["ext_ior"], f"{kind} ext_ior")}
         _optional(d, m, ("specular_reflectance", "specular_transmittance"), texture)
         if kind == "roughdielectric":

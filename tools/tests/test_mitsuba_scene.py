@@ -112,6 +112,8 @@ def test_dispersive_dielectric_is_refused():
     m = {"type": "dielectric", "int_ior": {"type": "irregular", "wavelengths": [400.0, 700.0], "values": [1.53, 1.51]}, "ext_ior": 1.0}
     with pytest.raises(ms.Dispersive):
         ms.material(m)
+    with pytest.raises(ms.Dispersive):  # as prism exports it
+        ms.material({**m, "dispersive": True})
     assert ms.material({"type": "dielectric", "int_ior": 1.5, "ext_ior": 1.0})["int_ior"] == 1.5
 
 
