@@ -27,9 +27,9 @@ pub mod roughplastic;
 pub mod thindielectric;
 
 use crate::interaction::SurfaceInteraction;
-use arrayvec::ArrayVec;
 use crate::spectrum::{RelativeIor, Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture};
+use arrayvec::ArrayVec;
 pub use conductor::{Conductor, ConductorParams};
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
@@ -547,16 +547,12 @@ impl<const N: usize> Bsdf<'_, N> {
     /// True if some lobe is not a Dirac lobe: emitter sampling can then contribute.
     #[inline]
     pub fn has_smooth(&self) -> bool {
-        self.lobes[..]
-            .iter()
-            .any(|(l, _, _)| l.has_smooth())
+        self.lobes[..].iter().any(|(l, _, _)| l.has_smooth())
     }
 
     /// True if sampling depends on wavelength (the integrator then tracks per-lane densities).
     #[inline]
     pub fn dispersive(&self) -> bool {
-        self.lobes[..]
-            .iter()
-            .any(|(l, _, _)| l.dispersive())
+        self.lobes[..].iter().any(|(l, _, _)| l.dispersive())
     }
 }
