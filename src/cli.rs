@@ -58,6 +58,19 @@ pub struct RenderArgs {
     /// Worker threads. Default: one per core.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Acceleration structure (overrides the scene's `accel`); `embree` needs prism built with
+    /// `--features embree`.
+    #[arg(long, value_enum)]
+    pub accel: Option<crate::accel::AccelKind>,
+    /// Sampler (overrides the scene's sampler.kind).
+    #[arg(long, value_enum)]
+    pub sampler: Option<crate::sampler::SamplerKind>,
+    /// Wavelengths per path (overrides the scene's spectral.wavelengths): 1, 2, 4, 8 or 16.
+    #[arg(long)]
+    pub wavelengths: Option<usize>,
+    /// Wavelength sampling (overrides the scene's spectral.sampling).
+    #[arg(long, value_enum)]
+    pub wavelength_sampling: Option<crate::spectrum::WavelengthSampling>,
     /// Opt-in firefly clamp: cut each sample's radiance to at most this (overrides the
     /// scene's integrator.clamp). Biased: for previews, never for ground truth.
     #[arg(long)]
@@ -104,6 +117,18 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if let Some(seed) = args.seed {
             cfg.sampler.seed = seed;
+        }
+        if let Some(accel) = args.accel {
+            cfg.accel = accel;
+        }
+        if let Some(kind) = args.sampler {
+            cfg.sampler.kind = kind;
+        }
+        if let Some(n) = args.wavelengths {
+            cfg.spectral.wavelengths = n;
+        }
+        if let Some(w) = args.wavelength_sampling {
+            cfg.spectral.sampling = w;
         }
         if args.clamp.is_some() {
             cfg.integrator.clamp = args.clamp;

@@ -5,7 +5,7 @@ use crate::math::rng::{hash3, hash_to_f32, Pcg32};
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 pub enum SamplerKind {
     /// Independent uniform numbers (PCG32): error falls as 1/spp, the textbook rate.
     #[default]

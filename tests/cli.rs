@@ -456,6 +456,34 @@ fn bad_conductors() {
     );
 }
 
+/// `--accel embree` (or `accel: Embree`) in a build without the `embree` feature is an input
+/// error that says how to get it; with the feature, it renders.
+#[test]
+fn accel_embree_needs_the_feature() {
+    let with_field = GOOD.replace("\n)", "\n    accel: Embree,\n)");
+    if cfg!(feature = "embree") {
+        for (name, text, extra) in [
+            ("embree-flag", GOOD, &["--accel", "embree"][..]),
+            ("embree-field", with_field.as_str(), &[][..]),
+        ] {
+            let (code, err, written) = run(name, text, extra);
+            assert!(code == 0 && written, "{name}: exit {code}: {err}");
+        }
+    } else {
+        assert_input_error(
+            "embree-flag",
+            GOOD,
+            &["--accel", "embree"],
+            &["accel", "--features embree"],
+        );
+        assert_input_error(
+            "embree-field",
+            &with_field,
+            &[],
+            &["accel", "--features embree"],
+        );
+    }
+}
 #[test]
 fn unreadable_textures() {
     let with = |m: &str| GOOD.replace("Diffuse(reflectance: Constant(0.5))", m);

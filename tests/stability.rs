@@ -15,6 +15,16 @@ fn render(text: &str) -> (Film, RenderStats) {
     pool.install(|| integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}))
 }
 
+/// The acceleration backends of this build: scale robustness must not depend on the backend.
+fn backends() -> impl Iterator<Item = &'static str> {
+    [
+        "Bvh",
+        #[cfg(feature = "embree")]
+        "Embree",
+    ]
+    .into_iter()
+}
+
 fn mean(data: &[f32]) -> f64 {
     data.iter().map(|&v| v as f64).sum::<f64>() / data.len() as f64
 }
@@ -28,7 +38,7 @@ fn view_factor_at_every_scale() {
     let (x, z) = (0.8f64, 0.3f64);
     let d2 = x * x + z * z + 0.36;
     let expect = 0.5 * (1.0 - (0.6 / d2.sqrt()) * 0.36 / d2);
-    for s in [1e-4f64, 1e-2, 1.0, 1e3, 1e5] {
+    for (kind, s) in backends().flat_map(|k| [1e-4f64, 1e-2, 1.0, 1e3, 1e5].map(|s| (k, s))) {
         let text = format!(
             r#"(
             camera: (fov: 2, near_clip: {}, far_clip: {}, to_world: [LookAt(origin: ({}, {}, {}), target: ({}, 0, {}), up: (0, 0, 1))]),
@@ -42,6 +52,7 @@ fn view_factor_at_every_scale() {
                 (shape: Sphere(center: (0, {c}, 0), radius: {c}), material: "black"),
             ],
             emitters: [Constant(radiance: Constant(1.0))],
+            accel: {kind},
         )"#,
             0.01 * s,
             1e4 * s,
@@ -58,11 +69,11 @@ fn view_factor_at_every_scale() {
         let m = mean(y);
         let var = y.iter().map(|&v| (v as f64 - m).powi(2)).sum::<f64>() / (y.len() - 1) as f64;
         let se = (var / y.len() as f64).sqrt();
-        println!("scale {s:e}: {m:.5} ± {se:.5} (expected {expect:.5})");
+        println!("{kind} scale {s:e}: {m:.5} ± {se:.5} (expected {expect:.5})");
         assert_eq!(stats.invalid_samples, 0);
         assert!(
             (m - expect).abs() <= 5.0 * se + 1e-6,
-            "scale {s:e}: {m} ± {se}, expected {expect}"
+            "{kind} scale {s:e}: {m} ± {se}, expected {expect}"
         );
     }
 }
@@ -81,7 +92,7 @@ fn view_factor_at_every_scale() {
 /// leaks orders of magnitude more (most paths escape).
 #[test]
 fn closed_box_leaks_no_light_at_any_scale() {
-    for s in [1e-4f64, 1.0, 1e5] {
+    for (kind, s) in backends().flat_map(|k| [1e-4f64, 1.0, 1e5].map(|s| (k, s))) {
         let text = format!(
             r#"(
             camera: (fov: 100, near_clip: {near}, far_clip: {far}, to_world: [LookAt(origin: (0, 0, {cam}), target: (0, 0, 0), up: (0, 1, 0))]),
@@ -95,6 +106,7 @@ fn closed_box_leaks_no_light_at_any_scale() {
                 (shape: Cube, material: "wall", to_world: [Scale(({tw}, {tw}, {tt})), Rotate(axis: (0, 1, 1), angle: 33)]),
             ],
             emitters: [Constant(radiance: Constant(1000.0))],
+            accel: {kind},
         )"#,
             cam = 0.9 * s,
             near = 0.01 * s,
@@ -110,12 +122,12 @@ fn closed_box_leaks_no_light_at_any_scale() {
         let lit = y.iter().filter(|&&v| v != 0.0).count();
         let leak = mean(y) / 1000.0;
         println!(
-            "scale {s:e}: {lit} of {} pixels lit, mean inside/outside radiance {leak:.2e}",
+            "{kind} scale {s:e}: {lit} of {} pixels lit, mean inside/outside radiance {leak:.2e}",
             y.len()
         );
         assert!(
             leak <= 1e-4,
-            "scale {s:e}: light leaks into the box ({leak:.2e} of outside)"
+            "{kind} scale {s:e}: light leaks into the box ({leak:.2e} of outside)"
         );
     }
 }

@@ -1,23 +1,38 @@
 //! Ray queries over the scene's primitives: closest hit and occlusion.
 //!
 //! One small interface; the backend is chosen at build time of the scene. `Bvh` (obvhs' compressed
-//! wide BVH) renders; `BruteForce` tests every primitive and exists to check the fast one.
+//! wide BVH) renders by default; `Embree` (Intel Embree 3, cargo feature `embree`) is the
+//! alternative; `BruteForce` tests every primitive and exists to check the fast ones.
 
 mod brute;
 mod bvh;
+#[cfg(feature = "embree")]
+mod embree;
 
 use crate::ray::Ray;
 use crate::shape::{PrimGeom, PrimHit};
 pub use brute::BruteForce;
 pub use bvh::Bvh;
+#[cfg(feature = "embree")]
+pub use embree::Embree;
 use serde::{Deserialize, Serialize};
 
-/// Which acceleration structure to build.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// Which acceleration structure to build. `Embree` exists in every build so that scene files
+/// parse the same everywhere; a build without the `embree` feature rejects it when the scene is
+/// checked (`is_available`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 pub enum AccelKind {
     #[default]
     Bvh,
     BruteForce,
+    Embree,
+}
+
+impl AccelKind {
+    /// False for `Embree` in a build without the `embree` feature.
+    pub fn is_available(self) -> bool {
+        self != AccelKind::Embree || cfg!(feature = "embree")
+    }
 }
 
 /// A primitive for the acceleration structure: its scene-wide id and its geometry.
@@ -37,13 +52,23 @@ pub struct Hit {
 pub enum Accel {
     Bvh(Bvh),
     BruteForce(BruteForce),
+    #[cfg(feature = "embree")]
+    Embree(Embree),
 }
 
 impl Accel {
+    /// Builds the structure. `kind` must be available in this build (`AccelKind::is_available`;
+    /// the scene loader checks it and reports a clear error for scene files and flags).
     pub fn build(prims: Vec<Prim>, kind: AccelKind) -> Accel {
         match kind {
             AccelKind::Bvh => Accel::Bvh(Bvh::build(prims)),
             AccelKind::BruteForce => Accel::BruteForce(BruteForce::new(prims)),
+            #[cfg(feature = "embree")]
+            AccelKind::Embree => Accel::Embree(Embree::build(prims)),
+            #[cfg(not(feature = "embree"))]
+            AccelKind::Embree => {
+                panic!("Accel::build: this prism was built without the `embree` feature")
+            }
         }
     }
 
@@ -52,6 +77,8 @@ impl Accel {
         match self {
             Accel::Bvh(b) => b.intersect(ray),
             Accel::BruteForce(b) => b.intersect(ray),
+            #[cfg(feature = "embree")]
+            Accel::Embree(b) => b.intersect(ray),
         }
     }
 
@@ -61,6 +88,8 @@ impl Accel {
         match self {
             Accel::Bvh(b) => b.occluded(ray),
             Accel::BruteForce(b) => b.occluded(ray),
+            #[cfg(feature = "embree")]
+            Accel::Embree(b) => b.occluded(ray),
         }
     }
 
@@ -69,6 +98,8 @@ impl Accel {
         let prims = match self {
             Accel::Bvh(b) => b.prims(),
             Accel::BruteForce(b) => b.prims(),
+            #[cfg(feature = "embree")]
+            Accel::Embree(b) => b.prims(),
         };
         if prims.is_empty() {
             return (glam::Vec3::splat(-1.0), glam::Vec3::splat(1.0));

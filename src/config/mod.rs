@@ -51,7 +51,8 @@ pub struct SceneConfig {
     pub shapes: Vec<ShapeConfig>,
     /// Emitters that are not attached to a shape (area lights are given on their shape).
     pub emitters: Vec<EmitterConfig>,
-    /// Acceleration structure: `Bvh` (default) or `BruteForce` (for testing).
+    /// Acceleration structure: `Bvh` (default), `Embree` (needs prism built with the `embree`
+    /// feature) or `BruteForce` (for testing).
     pub accel: AccelKind,
 }
 

@@ -301,6 +301,14 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         path: cfg.integrator,
         dispersion: cfg.spectral.dispersion,
     };
+    check(
+        cfg.accel.is_available(),
+        file,
+        "accel",
+        "Embree is not available in this build of prism; rebuild with \
+         `cargo build --release --features embree` (needs Embree 3, Debian: libembree-dev), \
+         or use `accel: Bvh`",
+    )?;
     let scene = Scene::new(
         camera,
         shapes,

@@ -109,24 +109,44 @@ impl PrimGeom {
                 b1: h.b1,
                 b2: h.b2,
             }),
-            PrimGeom::Sphere { center, radius } => intersect_sphere(ray, *center, *radius, t_max),
-            PrimGeom::Disk { to_object } => {
-                let o = ray.o.extend(1.0);
-                let d = ray.d.extend(0.0);
-                let (oz, dz) = (to_object[2].dot(o), to_object[2].dot(d));
-                if dz == 0.0 {
-                    return None;
-                }
-                let t = -oz / dz;
-                if !(t > 0.0 && t < t_max) {
-                    return None;
-                }
-                let x = to_object[0].dot(o) + t * to_object[0].dot(d);
-                let y = to_object[1].dot(o) + t * to_object[1].dot(d);
-                (x * x + y * y <= 1.0).then_some(PrimHit { t, b1: x, b2: y })
-            }
+            _ => self.intersect_analytic(ray, t_max),
         }
     }
+
+    /// Intersection with a sphere or disk (None for a triangle). Backends that test triangles
+    /// themselves (Embree) call this for the analytic shapes, so every backend shares one
+    /// definition of them.
+    #[inline]
+    pub fn intersect_analytic(&self, ray: &crate::ray::Ray, t_max: f32) -> Option<PrimHit> {
+        match self {
+            PrimGeom::Triangle(_) => None,
+            PrimGeom::Sphere { center, radius } => intersect_sphere(ray, *center, *radius, t_max),
+            PrimGeom::Disk { to_object } => intersect_disk(ray, to_object, t_max),
+        }
+    }
+}
+
+/// Ray/disk: the ray in the disk's object space meets z = 0 inside the unit circle; (b1, b2) are
+/// the object-space (x, y) of the hit.
+#[inline]
+fn intersect_disk(
+    ray: &crate::ray::Ray,
+    to_object: &[glam::Vec4; 3],
+    t_max: f32,
+) -> Option<PrimHit> {
+    let o = ray.o.extend(1.0);
+    let d = ray.d.extend(0.0);
+    let (oz, dz) = (to_object[2].dot(o), to_object[2].dot(d));
+    if dz == 0.0 {
+        return None;
+    }
+    let t = -oz / dz;
+    if !(t > 0.0 && t < t_max) {
+        return None;
+    }
+    let x = to_object[0].dot(o) + t * to_object[0].dot(d);
+    let y = to_object[1].dot(o) + t * to_object[1].dot(d);
+    (x * x + y * y <= 1.0).then_some(PrimHit { t, b1: x, b2: y })
 }
 
 /// Ray/sphere intersection in f64 with the numerically stable root pair (the discriminant is

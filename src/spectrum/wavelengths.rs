@@ -10,7 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 /// How wavelengths are drawn for each camera path.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 pub enum WavelengthSampling {
     /// Importance sampling of the visible range (the CIE curves' mass), as Mitsuba 3 does.
     #[default]

@@ -1,0 +1,231 @@
+"""Error against time: relMSE at increasing spp, plotted against render seconds, for prism (and
+its sampler and wavelength variants) and Mitsuba 3, on the benchmark scenes.
+
+    tools/.venv/bin/python tools/bench/error_time.py            # full: docs/bench/error_time.*
+    tools/.venv/bin/python tools/bench/error_time.py --quick    # smoke check: out/bench/quick/
+
+Curves (one render per spp of a doubling ladder, render time only, scene loading excluded):
+- prism, BVH, with the scene's settings made Mitsuba's (independent sampler, 4 wavelengths per
+  path, visible-importance wavelength sampling): `prism`;
+- prism variants, one change each: `--sampler sobol`, `--wavelengths 1`, `--wavelengths 8`,
+  `--wavelength-sampling uniform`;
+- Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` on the exported scene (each spp after
+  a warm-up render, so the LLVM variant's kernel compilation is not counted).
+
+relMSE = mean over pixels and R, G, B of (x − ref)² / (ref² + 0.01). Each renderer is measured
+against its own high-spp reference (prism's: Sobol sampler; Mitsuba's: llvm_ad_spectral), so
+the curves show variance against time, not the small bias between the two renderers (that is
+validated elsewhere); the relMSE between the two references is printed and stored as a check.
+Equal-error speedups: each curve gets a least-squares power law log relMSE = a + b log t; the
+time each needs to reach the error that `prism` reaches at the middle of its ladder is read off
+the fits, and speedup = that time for the curve / the time for `prism` (> 1: prism is faster;
+for a prism variant, < 1 means the variant beats the default settings).
+Writes error_time.csv (every point), error_time_speedups.csv/.md and error_time.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import pathlib
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import common  # noqa: E402
+from common import ROOT, SCENES, log  # noqa: E402
+
+# (max spp of the ladder, reference spp) per scene.
+FULL = {"cornell": (256, 4096), "materials": (128, 2048), "mesh": (64, 1024)}
+QUICK = {"cornell": (4, 32), "materials": (4, 32), "mesh": (2, 16)}
+PRISM_VARIANTS = {
+    "prism": [],
+    "prism sobol": ["--sampler", "sobol"],
+    "prism 1 wavelength": ["--wavelengths", "1"],
+    "prism 8 wavelengths": ["--wavelengths", "8"],
+    "prism uniform wavelengths": ["--wavelength-sampling", "uniform"],
+}
+
+
+def read_rgb(path: pathlib.Path) -> np.ndarray:
+    import OpenImageIO as oiio
+
+    inp = oiio.ImageInput.open(str(path))
+    if inp is None:
+        raise RuntimeError(f"cannot read {path}: {oiio.geterror()}")
+    names = list(inp.spec().channelnames)
+    data = inp.read_image("float")
+    inp.close()
+    return np.stack([data[..., names.index(c)] for c in "RGB"], axis=-1).astype(np.float64)
+
+
+def relmse(img: np.ndarray, ref: np.ndarray) -> float:
+    return float(np.mean((img - ref) ** 2 / (ref**2 + 0.01)))
+
+
+def ladder(max_spp: int) -> list[int]:
+    return [2**k for k in range(int(math.log2(max_spp)) + 1)]
+
+
+def fit(points: list[tuple[float, float]]) -> tuple[float, float] | None:
+    """Least-squares (a, b) of log err = a + b log t over (seconds, relMSE) points."""
+    pts = [(math.log(t), math.log(e)) for t, e in points if t > 0 and e > 0]
+    if len(pts) < 2:
+        return None
+    x, y = np.array(pts).T
+    b, a = np.polyfit(x, y, 1)
+    return float(a), float(b)
+
+
+def time_for(f: tuple[float, float], err: float) -> float:
+    a, b = f
+    return math.exp((math.log(err) - a) / b)
+
+
+def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_spp: int, threads: int, tmp: pathlib.Path):
+    scene = SCENES[name]
+    spps = ladder(max_spp)
+    rows: list[dict] = []
+    ref_exr = tmp / f"{name}_ref_prism.exr"
+    r = common.prism_render(binary, scene, ref_spp, threads, ref_exr, ["--sampler", "sobol", "--seed", "12345"])
+    if "error" in r:
+        raise RuntimeError(r["error"])
+    ref_prism = read_rgb(ref_exr)
+    for label, extra in PRISM_VARIANTS.items():
+        for spp in spps:
+            exr = tmp / f"{name}_p.exr"
+            r = common.prism_render(binary, scene, spp, threads, exr, extra)
+            if "error" in r:
+                log(f"  {label}: {r['error']}")
+                break
+            rows.append({"scene": name, "renderer": label, "spp": spp, "seconds": r["render_s"],
+                         "relmse": relmse(read_rgb(exr), ref_prism)})
+    export = tmp / f"export_{name}"
+    common.export_scene(binary, scene, export)
+    ref_mi = None
+    # A seed of its own: with the ladder's seed, the reference's first samples would be the
+    # ladder's own, correlated with them, and the error would look too small.
+    res = common.mitsuba_ladder(python, export, "llvm_ad_spectral", [ref_spp], threads, tmp / f"{name}_mref",
+                                seed=12345, warmup=False)
+    if "error" in res:
+        log(f"  Mitsuba reference unavailable: {res['error'].splitlines()[-1]}")
+    else:
+        ref_mi = read_rgb(tmp / f"{name}_mref" / f"spp_{ref_spp}.exr")
+        for variant in common.MITSUBA_VARIANTS:
+            d = tmp / f"{name}_{variant}"
+            res = common.mitsuba_ladder(python, export, variant, spps, threads, d)
+            if "error" in res:
+                log(f"  {variant}: {res['error'].splitlines()[-1]}")
+                continue
+            for spp in spps:
+                rows.append({"scene": name, "renderer": f"mitsuba {variant}", "spp": spp,
+                             "seconds": res["render_s"][str(spp)], "relmse": relmse(read_rgb(d / f"spp_{spp}.exr"), ref_mi)})
+    cross = relmse(ref_mi, ref_prism) if ref_mi is not None else None
+    return rows, cross
+
+
+def speedups(rows: list[dict], scene: str) -> list[dict]:
+    curves: dict[str, list[tuple[float, float]]] = {}
+    for r in rows:
+        if r["scene"] == scene:
+            curves.setdefault(r["renderer"], []).append((r["seconds"], r["relmse"]))
+    base = curves.get("prism")
+    fb = fit(base) if base else None
+    if not fb:
+        return []
+    target = sorted(e for _, e in base)[len(base) // 2]
+    t_base = time_for(fb, target)
+    out = []
+    for label, pts in curves.items():
+        f = fit(pts)
+        if not f:
+            continue
+        t = time_for(f, target)
+        out.append({"scene": scene, "renderer": label, "slope": f[1], "target_relmse": target,
+                    "seconds_to_target": t, "speedup_of_prism": t / t_base})
+    return out
+
+
+def plot(rows: list[dict], scenes: list[str], path: pathlib.Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.ticker
+
+    fig, axes = plt.subplots(1, len(scenes), figsize=(5.2 * len(scenes), 4.4), squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        labels = dict.fromkeys(r["renderer"] for r in rows if r["scene"] == scene)
+        for label in labels:
+            pts = sorted((r["seconds"], r["relmse"]) for r in rows if r["scene"] == scene and r["renderer"] == label)
+            style = "--" if label.startswith("mitsuba") else "-"
+            ax.loglog(*zip(*pts), style, marker="o", ms=3, label=label)
+        ax.set_title(scene)
+        ax.set_xlabel("render seconds")
+        ax.set_ylabel("relMSE")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+        # Log axes label minor ticks too, which overlap on short ranges.
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="smoke check: a few spp, small references")
+    ap.add_argument("--scenes", default="cornell,materials,mesh")
+    ap.add_argument("--threads", type=int, default=__import__("os").cpu_count())
+    ap.add_argument("--max-spp", type=int, help="top of every scene's spp ladder (overrides the table)")
+    ap.add_argument("--ref-spp", type=int, help="spp of every scene's references (overrides the table)")
+    ap.add_argument("--out", type=pathlib.Path, help="output folder (default docs/bench, or out/bench/quick)")
+    args = ap.parse_args()
+    out = args.out or (ROOT / ("out/bench/quick" if args.quick else "docs/bench"))
+    out.mkdir(parents=True, exist_ok=True)
+    table = QUICK if args.quick else FULL
+    scenes = args.scenes.split(",")
+    python = sys.executable
+    # The same build as bench.py (so the two scripts do not rebuild each other's binary).
+    binary = common.build_prism(common.embree_available())
+    common.ensure_mesh(python)
+    rows: list[dict] = []
+    cross: dict[str, float | None] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in scenes:
+            max_spp, ref_spp = table[name]
+            max_spp, ref_spp = args.max_spp or max_spp, args.ref_spp or ref_spp
+            log(f"== {name}: ladder up to {max_spp} spp, references at {ref_spp} spp, {args.threads} threads")
+            r, c = run_scene(name, binary, python, max_spp, ref_spp, args.threads, pathlib.Path(tmp))
+            rows += r
+            cross[name] = c
+    with open(out / "error_time.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["scene", "renderer", "spp", "seconds", "relmse"])
+        w.writeheader()
+        w.writerows(rows)
+    sp = [s for name in scenes for s in speedups(rows, name)]
+    with open(out / "error_time_speedups.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["scene", "renderer", "slope", "target_relmse", "seconds_to_target", "speedup_of_prism"])
+        w.writeheader()
+        w.writerows(sp)
+    plot(rows, scenes, out / "error_time.png")
+    md = ["# Error against time", "", f"Command: `tools/bench/error_time.py {' '.join(sys.argv[1:])}`",
+          f"Machine: {json.dumps(common.machine_info())}", "",
+          "Equal-error speedup: time the row needs to reach the target relMSE over the time `prism` needs "
+          "(power-law fits; > 1 means prism is faster). Slope: fitted d log relMSE / d log t (-1 for plain Monte Carlo).", ""]
+    for name in scenes:
+        md += [f"## {name}", "", f"relMSE of Mitsuba's reference against prism's: {cross[name]}", "",
+               "| renderer | slope | target relMSE | seconds to target | speedup of prism |", "|---|---|---|---|---|"]
+        md += [f"| {s['renderer']} | {s['slope']:.2f} | {s['target_relmse']:.3g} | {s['seconds_to_target']:.3g} | {s['speedup_of_prism']:.2f} |"
+               for s in sp if s["scene"] == name]
+        md.append("")
+    (out / "error_time_speedups.md").write_text("\n".join(md))
+    log("\n".join(md))
+    log(f"wrote {out}/error_time.csv, error_time_speedups.csv, error_time_speedups.md, error_time.png")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,100 @@
+"""Renders one prism-exported scene with Mitsuba 3 in a fresh process and prints timings as JSON.
+
+    python tools/bench/mitsuba_worker.py EXPORT_DIR --variant llvm_ad_spectral --spp 16 \
+        [--threads 2] [--repeats 3] [--seed 1] [--save-exr OUT.exr]
+    python tools/bench/mitsuba_worker.py EXPORT_DIR --variant scalar_spectral --ladder 1,2,4 --save-dir DIR
+
+The second form renders once at each spp of the ladder (each after its own warm-up) and writes
+DIR/spp_N.exr: the error-against-time curves of error_time.py.
+
+Run by bench.py and error_time.py, one process per (variant, thread count): Dr.Jit fixes its
+backend per process, and a fresh process makes the peak RSS that the caller reads with wait4()
+this render's own. EXPORT_DIR is `prism export SCENE.ron -o EXPORT_DIR`; the scene dict comes from
+tools/prism_tools/mitsuba_scene.py (imported, not copied), so both renderers see the same
+geometry, camera, spectra, film and integrator settings.
+
+Timings: `load_s` is mi.load_dict (scene construction including Mitsuba's acceleration build);
+then one untimed warm-up render at the same spp (the LLVM variant compiles its kernels there;
+Dr.Jit also caches them on disk), then `repeats` timed renders whose image is copied to host
+memory inside the timer, so lazily evaluated JIT work is counted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import pathlib
+import sys
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("export_dir", type=pathlib.Path)
+    ap.add_argument("--variant", required=True)
+    ap.add_argument("--spp", type=int, help="spp of the timed renders (or give --ladder)")
+    ap.add_argument("--ladder", help="comma-separated spp list: one timed render at each")
+    ap.add_argument("--save-dir", type=pathlib.Path, help="with --ladder: write spp_N.exr here")
+    ap.add_argument("--no-warmup", action="store_true", help="with --ladder: no warm-up renders (for untimed references)")
+    ap.add_argument("--threads", type=int)
+    ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--save-exr", type=pathlib.Path, help="write the last render's RGB here")
+    args = ap.parse_args()
+
+    import drjit as dr
+    import mitsuba as mi
+    import numpy as np
+
+    mi.set_variant(args.variant)
+    if args.threads:
+        # Mitsuba 3 runs its render loop (scalar) and its JIT kernels (LLVM) on Dr.Jit's pool.
+        dr.set_thread_count(args.threads)
+    from prism_tools.mitsuba_scene import convert, load
+
+    ladder = [int(x) for x in args.ladder.split(",")] if args.ladder else None
+    if not ladder and not args.spp:
+        ap.error("give --spp or --ladder")
+    t0 = time.perf_counter()
+    scene = mi.load_dict(convert(load(args.export_dir / "scene.json"), spp=args.spp or ladder[0], seed=args.seed))
+    dr.sync_thread()
+    load_s = time.perf_counter() - t0
+    if ladder:
+        args.save_dir.mkdir(parents=True, exist_ok=True)
+        times = {}
+        for spp in ladder:
+            if not args.no_warmup:
+                np.asarray(mi.render(scene, spp=spp, seed=args.seed + 1000))  # warm-up (LLVM compiles)
+            t = time.perf_counter()
+            img = np.asarray(mi.render(scene, spp=spp, seed=args.seed))
+            times[spp] = time.perf_counter() - t
+            mi.Bitmap(img[..., :3]).write(str(args.save_dir / f"spp_{spp}.exr"))
+        print(json.dumps({"variant": args.variant, "threads": dr.thread_count(), "load_s": load_s, "render_s": times}))
+        return
+
+    np.asarray(mi.render(scene, spp=args.spp, seed=args.seed + 1000))  # warm-up
+    times = []
+    img = None
+    for k in range(args.repeats):
+        t = time.perf_counter()
+        img = np.asarray(mi.render(scene, spp=args.spp, seed=args.seed + k))
+        times.append(time.perf_counter() - t)
+    if args.save_exr:
+        mi.Bitmap(img[..., :3]).write(str(args.save_exr))
+    film = scene.sensors()[0].film().size()
+    print(json.dumps({
+        "variant": args.variant,
+        "threads": dr.thread_count(),
+        "width": int(film[0]),
+        "height": int(film[1]),
+        "spp": args.spp,
+        "load_s": load_s,
+        "render_s": times,
+    }))
+
+
+if __name__ == "__main__":
+    main()

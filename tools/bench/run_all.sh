@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Every speed figure of docs/performance.md in one command, on one machine, in one run:
+#
+#   tools/bench/run_all.sh            # full settings (about an hour on 2 cores); writes docs/bench/
+#   tools/bench/run_all.sh --quick    # smoke check of every step (a few minutes); writes out/bench/quick/
+#
+# Steps (each prints the commands it runs):
+#   1. tools/bench/bench.py        prism (BVH, Embree) vs Mitsuba 3: throughput, load, RSS, threads
+#   2. tools/bench/error_time.py   relMSE against time, prism variants and Mitsuba, equal-error speedups
+#   3. cargo bench --bench traversal   BVH vs Embree rays/s, 20k and 1M triangles
+#   4. tools/bench/profile.sh      callgrind instruction profile of the Cornell box (BVH and Embree)
+# Uses tools/.venv (made by tools/run_tests.sh) for Python, and Embree when libembree-dev is
+# installed. Run it on a quiet machine: the figures are only as good as the machine is idle.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+quick=()
+out=docs/bench
+if [ "${1:-}" = "--quick" ]; then
+    quick=(--quick)
+    out=out/bench/quick
+fi
+mkdir -p "$out"
+py=${PYTHON:-tools/.venv/bin/python}
+features=()
+# (No `grep -q`: under pipefail, ldconfig's SIGPIPE would read as "not installed".)
+if ldconfig -p 2>/dev/null | grep 'libembree3\.so ' >/dev/null; then features=(--features embree); fi
+
+echo "== machine: $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "== 1. bench.py"
+"$py" tools/bench/bench.py "${quick[@]}" --out "$out"
+echo "== 2. error_time.py"
+"$py" tools/bench/error_time.py "${quick[@]}" --out "$out"
+echo "== 3. traversal"
+echo "\$ cargo bench --bench traversal ${features[*]} -- ${quick[*]}"
+cargo bench --quiet --bench traversal "${features[@]}" -- "${quick[@]}" | tee "$out/traversal.md"
+echo "== 4. profile"
+cargo build --release --quiet "${features[@]}"
+tools/bench/profile.sh scenes/cornell.ron 1 bvh | tee "$out/profile_cornell_bvh.txt"
+if [ ${#features[@]} -gt 0 ]; then
+    tools/bench/profile.sh scenes/cornell.ron 1 embree | tee "$out/profile_cornell_embree.txt"
+fi
+echo "== done: results in $out/"

@@ -1,0 +1,77 @@
+"""The benchmark tools' own logic: the generated mesh, prism's summary line, and the error-time
+fits (the timings themselves are measured by tools/bench/run_all.sh, never in tests)."""
+
+from __future__ import annotations
+
+import math
+import pathlib
+import sys
+
+import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "bench"))
+import common  # noqa: E402
+import error_time  # noqa: E402
+import make_mesh  # noqa: E402
+
+
+def test_mesh_is_closed_outward_and_big_enough(tmp_path):
+    pos, faces = make_mesh.bumpy_sphere(20_000)
+    assert len(faces) >= 20_000
+    assert faces.min() >= 0 and faces.max() < len(pos)
+    a, b, c = (pos[faces[:, k]].astype(np.float64) for k in range(3))
+    cross = np.cross(b - a, c - a)
+    assert (np.linalg.norm(cross, axis=1) > 0).all(), "degenerate triangles"
+    # Divergence theorem: the signed volume is positive when the faces wind outward, and close
+    # to the unit sphere's (the bumps average out).
+    volume = np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6
+    assert abs(volume - 4 / 3 * math.pi) < 0.15 * 4 / 3 * math.pi
+    # Every edge is shared by exactly two triangles once coincident vertices (each pole's row)
+    # are merged: no holes at the seam or the poles.
+    _, weld = np.unique(pos, axis=0, return_inverse=True)
+    f = weld.reshape(-1)[faces]
+    edges = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    assert (counts == 2).all()
+
+
+def test_ply_round_trip(tmp_path):
+    pos, faces = make_mesh.bumpy_sphere(500)
+    path = tmp_path / "m.ply"
+    make_mesh.write_ply(path, pos, faces)
+    data = path.read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode()
+    assert f"element vertex {len(pos)}" in header and f"element face {len(faces)}" in header
+    body = np.frombuffer(data[end:end + pos.nbytes], dtype="<f4").reshape(-1, 3)
+    assert np.array_equal(body, pos)
+    rec = np.frombuffer(data[end + pos.nbytes:], dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    assert (rec["n"] == 3).all() and np.array_equal(rec["i"], faces)
+
+
+def test_summary_line_parses():
+    line = ("rendered 256x256 at 64 spp (4.2 Msamples) in 5.12 s (0.82 Msamples/s, 2 threads); "
+            "scene load 0.03 s; 0 invalid samples, 4 clamped at 10 -> /tmp/o.exr")
+    m = common.SUMMARY.search(line)
+    assert m and m.group(4) == "5.12" and m.group(6) == "2" and m.group(7) == "0.03"
+    one = line.replace("2 threads", "1 thread")
+    assert common.SUMMARY.search(one).group(6) == "1"
+
+
+def test_power_law_fit_and_equal_error_time():
+    pts = [(t, 0.3 * t**-1.0) for t in (0.5, 1.0, 2.0, 4.0)]
+    a, b = error_time.fit(pts)
+    assert abs(b + 1.0) < 1e-9 and abs(math.exp(a) - 0.3) < 1e-9
+    assert abs(error_time.time_for((a, b), 0.15) - 2.0) < 1e-9
+    assert error_time.ladder(32) == [1, 2, 4, 8, 16, 32]
+    ref = np.ones((4, 4, 3))
+    assert error_time.relmse(ref, ref) == 0.0
+    assert abs(error_time.relmse(ref * 1.1, ref) - 0.01 / 1.01) < 1e-12
+
+
+def test_speedup_reads_off_the_fits():
+    rows = [{"scene": "s", "renderer": "prism", "seconds": t, "relmse": 1 / t} for t in (1, 2, 4)]
+    rows += [{"scene": "s", "renderer": "other", "seconds": 2 * t, "relmse": 1 / t} for t in (1, 2, 4)]
+    sp = {r["renderer"]: r for r in error_time.speedups(rows, "s")}
+    assert abs(sp["prism"]["speedup_of_prism"] - 1.0) < 1e-9
+    assert abs(sp["other"]["speedup_of_prism"] - 2.0) < 1e-9
