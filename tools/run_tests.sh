@@ -1,22 +1,23 @@
 #!/usr/bin/env bash
-# Runs every prism test: formatting and lints, the Rust tests (release mode), and the Python
-# tests in tools/tests against Mitsuba 3 and colour-science, and the Embree backend (cargo feature
-# `embree`: its lints and the accelerator tests). Installs what it needs: the Python venv
-# tools/.venv from tools/requirements.txt (re-installed when that file changes), and Debian's
-# libembree-dev through apt-get when it is missing and this runs as root with apt available; if
-# Embree cannot be had, only the Embree part is skipped, with a loud notice.
+# Runs every prism test: formatting and lints, the Rust tests (release mode), the Python tests in
+# tools/tests against Mitsuba 3 and colour-science, and the Embree backend (cargo feature `embree`:
+# its lints and the accelerator tests). Installs what it needs: the Python venv tools/.venv with the
+# prism_tools package (tools/pyproject.toml) and its pinned requirements (tools/requirements.txt),
+# re-installed when either file changes; and Debian's libembree-dev through apt-get when it is
+# missing and this runs as root with apt available; if Embree cannot be had, only the Embree part
+# is skipped, with a loud notice.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 py=$(command -v python3.11 || command -v python3)
 venv=tools/.venv
 stamp="$venv/.requirements.sha256"
-want=$(sha256sum tools/requirements.txt | cut -d' ' -f1)
+want=$(cat tools/requirements.txt tools/pyproject.toml | sha256sum | cut -d' ' -f1)
 if [ ! -x "$venv/bin/python" ] || [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
     echo "== installing the Python environment ($venv)"
     "$py" -m venv "$venv"
     "$venv/bin/pip" install --quiet --upgrade pip
-    "$venv/bin/pip" install --quiet -r tools/requirements.txt
+    "$venv/bin/pip" install --quiet -r tools/requirements.txt -e tools
     echo "$want" > "$stamp"
 fi
 

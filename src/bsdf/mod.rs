@@ -29,6 +29,7 @@ pub mod thindielectric;
 use crate::interaction::SurfaceInteraction;
 use crate::spectrum::{RelativeIor, Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture};
+use arrayvec::ArrayVec;
 pub use conductor::{Conductor, ConductorParams};
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
@@ -171,10 +172,11 @@ pub struct BsdfSample<const N: usize> {
 }
 
 /// A BSDF at one hit: a mixture of leaf lobes whose weights sum to 1.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Bsdf<'a, const N: usize> {
-    lobes: [(Lobe<'a, N>, f32, bool); MAX_LOBES],
-    count: usize,
+    // An ArrayVec rather than a filled array: most hits have one lobe, and initialising all
+    // MAX_LOBES slots of the largest lobe variant at every hit showed in profiles.
+    lobes: ArrayVec<(Lobe<'a, N>, f32, bool), MAX_LOBES>,
 }
 
 impl Material {
@@ -196,12 +198,23 @@ impl Material {
         wi: Vec3,
         wl: &Wavelengths<N>,
     ) -> Bsdf<'a, N> {
-        let mut b = Bsdf {
-            lobes: [(Lobe::Null, 0.0, false); MAX_LOBES],
-            count: 0,
-        };
-        self.add_lobes(si, wi, wl, 1.0, false, &mut b);
+        let mut b = Bsdf::default();
+        self.fill_bsdf(si, wi, wl, &mut b);
         b
+    }
+
+    /// `bsdf`, written into `out` (cleared first): the path loop reuses one `Bsdf`, so its
+    /// lobes are written once in place instead of being returned and copied at every hit.
+    #[inline]
+    pub fn fill_bsdf<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wi: Vec3,
+        wl: &Wavelengths<N>,
+        out: &mut Bsdf<'a, N>,
+    ) {
+        out.lobes.clear();
+        self.add_lobes(si, wi, wl, 1.0, false, out);
     }
 
     fn add_lobes<'a, const N: usize>(
@@ -330,9 +343,8 @@ impl Material {
 
 impl<'a, const N: usize> Lobe<'a, N> {
     fn push(self, weight: f32, flip: bool, out: &mut Bsdf<'a, N>) {
-        if weight > 0.0 && out.count < MAX_LOBES {
-            out.lobes[out.count] = (self, weight, flip);
-            out.count += 1;
+        if weight > 0.0 && !out.lobes.is_full() {
+            out.lobes.push((self, weight, flip));
         }
     }
 
@@ -461,7 +473,7 @@ impl<const N: usize> Bsdf<'_, N> {
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         let mut f = Spectrum::zero();
-        for (lobe, w, flip) in &self.lobes[..self.count] {
+        for (lobe, w, flip) in &self.lobes[..] {
             f += lobe.eval(mirror(wi, *flip), mirror(wo, *flip)) * *w;
         }
         f
@@ -470,7 +482,7 @@ impl<const N: usize> Bsdf<'_, N> {
     /// Hero density with which `sample` produces `wo` from its smooth lobes.
     #[inline]
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        self.lobes[..self.count]
+        self.lobes[..]
             .iter()
             .map(|(l, w, flip)| w * l.pdf(mirror(wi, *flip), mirror(wo, *flip)))
             .sum()
@@ -480,7 +492,7 @@ impl<const N: usize> Bsdf<'_, N> {
     #[inline]
     pub fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         let mut p = Spectrum::zero();
-        for (lobe, w, flip) in &self.lobes[..self.count] {
+        for (lobe, w, flip) in &self.lobes[..] {
             p += lobe.pdf_lanes(mirror(wi, *flip), mirror(wo, *flip)) * *w;
         }
         p
@@ -489,7 +501,7 @@ impl<const N: usize> Bsdf<'_, N> {
     /// `uc` picks a lobe (by weight), `u` the direction within it.
     #[inline]
     pub fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
-        if self.count == 1 {
+        if self.lobes.len() == 1 {
             let (lobe, w, flip) = &self.lobes[0];
             let mut s = lobe.sample(mirror(wi, *flip), uc, u)?;
             s.wo = mirror(s.wo, *flip);
@@ -499,10 +511,10 @@ impl<const N: usize> Bsdf<'_, N> {
         }
         // Choose lobe i with probability w_i (the weights sum to 1), reusing uc.
         let mut acc = 0.0;
-        let mut chosen = self.count - 1;
+        let mut chosen = self.lobes.len() - 1;
         let mut uc_lobe = uc;
-        for (i, (_, w, _)) in self.lobes[..self.count].iter().enumerate() {
-            if uc < acc + w || i == self.count - 1 {
+        for (i, (_, w, _)) in self.lobes[..].iter().enumerate() {
+            if uc < acc + w || i == self.lobes.len() - 1 {
                 chosen = i;
                 uc_lobe = ((uc - acc) / w).clamp(0.0, 1.0 - f32::EPSILON);
                 break;
@@ -535,16 +547,12 @@ impl<const N: usize> Bsdf<'_, N> {
     /// True if some lobe is not a Dirac lobe: emitter sampling can then contribute.
     #[inline]
     pub fn has_smooth(&self) -> bool {
-        self.lobes[..self.count]
-            .iter()
-            .any(|(l, _, _)| l.has_smooth())
+        self.lobes[..].iter().any(|(l, _, _)| l.has_smooth())
     }
 
     /// True if sampling depends on wavelength (the integrator then tracks per-lane densities).
     #[inline]
     pub fn dispersive(&self) -> bool {
-        self.lobes[..self.count]
-            .iter()
-            .any(|(l, _, _)| l.dispersive())
+        self.lobes[..].iter().any(|(l, _, _)| l.dispersive())
     }
 }

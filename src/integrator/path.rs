@@ -5,6 +5,7 @@
 //! shows only directly visible emitters, 2 adds direct lighting, −1 is unbounded. Russian
 //! roulette starts once depth ≥ `rr_depth`: continue with q = min(max(β)·η², 0.95), β /= q.
 
+use crate::bsdf::Bsdf;
 use crate::math::sampling::power_heuristic;
 use crate::ray::Ray;
 use crate::sampler::{PixelSampler, BOUNCE_DIMS, CAMERA_DIMS};
@@ -90,6 +91,7 @@ pub fn radiance<const N: usize>(
     let mut prev_pdf = 0.0f32;
     let mut prev_delta = true; // the camera ray: no competing strategy
     let mut depth = 1u32;
+    let mut bsdf = Bsdf::default();
     loop {
         let show = depth > 1 || !settings.hide_emitters;
         let Some(si) = scene.intersect(&ray) else {
@@ -128,7 +130,7 @@ pub fn radiance<const N: usize>(
         sampler.set_dimension(CAMERA_DIMS + (depth - 1).min(1 << 20) * BOUNCE_DIMS);
         let wi = si.frame.to_local(-ray.d);
         let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
-        let bsdf = material.bsdf(&si, wi, wl);
+        material.fill_bsdf(&si, wi, wl, &mut bsdf);
         let dispersive = bsdf.dispersive();
 
         // Emitter sampling.
