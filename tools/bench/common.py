@@ -13,6 +13,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -62,19 +63,31 @@ def mitsuba_env() -> dict[str, str]:
     return env
 
 
-def measured(cmd: list[str], env: dict[str, str] | None = None) -> tuple[int, str, str, float, float]:
+def measured(
+    cmd: list[str], env: dict[str, str] | None = None, timeout: float = 1800.0
+) -> tuple[int, str, str, float, float]:
     """Runs `cmd`; returns (exit code, stdout, stderr, peak RSS in MiB, wall seconds). The peak
-    RSS is this child's own (wait4), not the maximum over all children so far."""
+    RSS is this child's own (wait4), not the maximum over all children so far. A child still
+    running after `timeout` seconds is killed (a hung renderer must not stall the whole run);
+    its stderr then says so."""
     show(cmd)
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         t = time.perf_counter()
         p = subprocess.Popen([str(c) for c in cmd], stdout=out, stderr=err, env=env)
-        _, status, rusage = os.wait4(p.pid, 0)
+        timer = threading.Timer(timeout, p.kill)
+        timer.start()
+        try:
+            _, status, rusage = os.wait4(p.pid, 0)
+        finally:
+            timer.cancel()
         wall = time.perf_counter() - t
         p.returncode = os.waitstatus_to_exitcode(status)
         out.seek(0)
         err.seek(0)
-        return p.returncode, out.read(), err.read(), rusage.ru_maxrss / 1024.0, wall
+        stderr = err.read()
+        if wall >= timeout:
+            stderr += f"\nkilled after {timeout:.0f} s"
+        return p.returncode, out.read(), stderr, rusage.ru_maxrss / 1024.0, wall
 
 
 SUMMARY = re.compile(

@@ -13,7 +13,8 @@ this render's own. EXPORT_DIR is `prism export SCENE.ron -o EXPORT_DIR`; the sce
 tools/prism_tools/mitsuba_scene.py (imported, not copied), so both renderers see the same
 geometry, camera, spectra, film and integrator settings.
 
-Timings: `load_s` is mi.load_dict (scene construction including Mitsuba's acceleration build);
+Timings: `load_s` is mi.load_dict (scene construction including Mitsuba's acceleration build,
+on all cores whatever --threads says: see below);
 then one untimed warm-up render at the same spp (the LLVM variant compiles its kernels there;
 Dr.Jit also caches them on disk), then `repeats` timed renders whose image is copied to host
 memory inside the timer, so lazily evaluated JIT work is counted.
@@ -50,9 +51,6 @@ def main() -> None:
     import numpy as np
 
     mi.set_variant(args.variant)
-    if args.threads:
-        # Mitsuba 3 runs its render loop (scalar) and its JIT kernels (LLVM) on Dr.Jit's pool.
-        dr.set_thread_count(args.threads)
     from prism_tools.mitsuba_scene import convert, load
 
     ladder = [int(x) for x in args.ladder.split(",")] if args.ladder else None
@@ -62,6 +60,12 @@ def main() -> None:
     scene = mi.load_dict(convert(load(args.export_dir / "scene.json"), spp=args.spp or ladder[0], seed=args.seed))
     dr.sync_thread()
     load_s = time.perf_counter() - t0
+    if args.threads:
+        # Mitsuba 3 runs its render loop (scalar) and its JIT kernels (LLVM) on Dr.Jit's pool.
+        # Set only after loading: mi.load_dict of a scene with an environment map never returns
+        # with a pool of one thread (Mitsuba 3.9.1 scalar_spectral), so loading always uses the
+        # default pool, one thread per core.
+        dr.set_thread_count(args.threads)
     if ladder:
         args.save_dir.mkdir(parents=True, exist_ok=True)
         times = {}
