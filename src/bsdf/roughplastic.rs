@@ -30,31 +30,37 @@ pub struct RoughPlastic<'a, const N: usize> {
     pub transmittance: &'a TransmittanceTable,
 }
 
-/// Directional transmittance of the rough coating (relative index `eta`) for incidence
-/// cos θ = `mu`: the light that refracts through a microfacet and is not masked on its way out,
-/// E over visible normals m of (1 − F(wi·m)) G1(wt, m), wt the direction refracted about m.
-/// Light the coating neither reflects nor transmits (masked after scattering) is lost, as in
-/// Mitsuba's roughplastic, which tabulates the same rough-dielectric transmittance. Stratified
-/// 64×64 grid (error < 1e-4, below the table's own interpolation error).
-pub fn transmittance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
+/// Mean of `g(wi, m)` over the visible normals m of direction cos θ = `mu`, on a stratified
+/// 64×64 grid (error < 1e-4, below the 64-entry table's own interpolation error).
+fn visible_normal_mean(mf: &Microfacet, mu: f32, g: impl Fn(Vec3, Vec3) -> f32) -> f32 {
     let wi = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
     let k = 64;
     let mut sum = 0.0f64;
     for a in 0..k {
         for b in 0..k {
             let u = Vec2::new((a as f32 + 0.5) / k as f32, (b as f32 + 0.5) / k as f32);
-            let m = mf.sample_visible(wi, u);
-            let cos_im = wi.dot(m);
-            let (f, cos_t, _, eta_ti) = fresnel::dielectric(cos_im, eta);
-            if f >= 1.0 {
-                continue;
-            }
-            // Refraction about m: cos_t is signed opposite to wi·m.
-            let wt = -eta_ti * wi + (eta_ti * cos_im + cos_t) * m;
-            sum += ((1.0 - f) * mf.g1(wt, m)) as f64;
+            sum += g(wi, mf.sample_visible(wi, u)) as f64;
         }
     }
     (sum / (k * k) as f64) as f32
+}
+
+/// Directional transmittance of the rough coating (relative index `eta`) for incidence
+/// cos θ = `mu`: the light that refracts through a microfacet and is not masked on its way out,
+/// E over visible normals m of (1 − F(wi·m)) G1(wt, m), wt the direction refracted about m.
+/// Light the coating neither reflects nor transmits (masked after scattering) is lost, as in
+/// Mitsuba's roughplastic, which tabulates the same rough-dielectric transmittance.
+pub fn transmittance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
+    visible_normal_mean(mf, mu, |wi, m| {
+        let cos_im = wi.dot(m);
+        let (f, cos_t, _, eta_ti) = fresnel::dielectric(cos_im, eta);
+        if f >= 1.0 {
+            return 0.0;
+        }
+        // Refraction about m: cos_t is signed opposite to wi·m.
+        let wt = -eta_ti * wi + (eta_ti * cos_im + cos_t) * m;
+        (1.0 - f) * mf.g1(wt, m)
+    })
 }
 
 /// The transmittance table of a coating with relative index `eta`.
@@ -69,22 +75,16 @@ pub fn transmittance_table(mf: &Microfacet, eta: f32) -> Box<TransmittanceTable>
 
 /// Directional reflectance of the coating's microfacets for incidence cos θ = `mu` (from the
 /// side where the relative index is `eta`): E over visible normals of F(wi·m) G1(wr, m), wr
-/// the mirrored direction. Same grid as `transmittance_at`.
+/// the mirrored direction.
 pub fn reflectance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
-    let wi = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
-    let k = 64;
-    let mut sum = 0.0f64;
-    for a in 0..k {
-        for b in 0..k {
-            let u = Vec2::new((a as f32 + 0.5) / k as f32, (b as f32 + 0.5) / k as f32);
-            let m = mf.sample_visible(wi, u);
-            let wr = 2.0 * wi.dot(m) * m - wi;
-            if wr.z > 0.0 {
-                sum += (fresnel::dielectric(wi.dot(m), eta).0 * mf.g1(wr, m)) as f64;
-            }
+    visible_normal_mean(mf, mu, |wi, m| {
+        let wr = 2.0 * wi.dot(m) * m - wi;
+        if wr.z > 0.0 {
+            fresnel::dielectric(wi.dot(m), eta).0 * mf.g1(wr, m)
+        } else {
+            0.0
         }
-    }
-    (sum / (k * k) as f64) as f32
+    })
 }
 
 /// The coating's internal reflectance: the cosine-weighted average over incidence of the
