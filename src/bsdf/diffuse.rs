@@ -38,13 +38,6 @@ impl<const N: usize> Diffuse<N> {
         if pdf <= 0.0 {
             return None;
         }
-        Some(BsdfSample {
-            wo,
-            pdf,
-            pdf_lanes: Spectrum::splat(pdf),
-            weight: self.reflectance,
-            delta: false,
-            eta: 1.0,
-        })
+        Some(BsdfSample::reflection(wo, pdf, self.reflectance))
     }
 }

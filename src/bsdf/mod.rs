@@ -171,6 +171,22 @@ pub struct BsdfSample<const N: usize> {
     pub eta: f32,
 }
 
+impl<const N: usize> BsdfSample<N> {
+    /// A sample of a smooth reflection lobe whose sampling does not depend on wavelength:
+    /// every lane's density is the hero's.
+    #[inline]
+    pub fn reflection(wo: Vec3, pdf: f32, weight: Spectrum<N>) -> Self {
+        Self {
+            wo,
+            pdf,
+            pdf_lanes: Spectrum::splat(pdf),
+            weight,
+            delta: false,
+            eta: 1.0,
+        }
+    }
+}
+
 /// A BSDF at one hit: a mixture of leaf lobes whose weights sum to 1.
 #[derive(Clone, Debug, Default)]
 pub struct Bsdf<'a, const N: usize> {

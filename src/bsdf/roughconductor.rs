@@ -63,13 +63,6 @@ impl<const N: usize> RoughConductor<N> {
         }
         // f cos θ_o / pdf: D and G1(wi) cancel against the visible normals' density.
         let weight = self.surface.reflectance(cos_m) * self.distr.g1(wo, m);
-        Some(BsdfSample {
-            wo,
-            pdf,
-            pdf_lanes: Spectrum::splat(pdf),
-            weight,
-            delta: false,
-            eta: 1.0,
-        })
+        Some(BsdfSample::reflection(wo, pdf, weight))
     }
 }

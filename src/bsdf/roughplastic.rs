@@ -155,13 +155,6 @@ impl<const N: usize> RoughPlastic<'_, N> {
         if pdf <= 0.0 {
             return None;
         }
-        Some(BsdfSample {
-            wo,
-            pdf,
-            pdf_lanes: Spectrum::splat(pdf),
-            weight: self.eval(wi, wo) / pdf,
-            delta: false,
-            eta: 1.0,
-        })
+        Some(BsdfSample::reflection(wo, pdf, self.eval(wi, wo) / pdf))
     }
 }
