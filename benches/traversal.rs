@@ -3,6 +3,7 @@
 //!     cargo bench --bench traversal                        # prism's BVH only
 //!     cargo bench --bench traversal --features embree     # BVH and Embree
 //!     cargo bench --bench traversal --features embree -- --quick
+//!     cargo bench --bench traversal -- --tris 20000 --rays 262144
 //!
 //! Meshes: the bumpy sphere of tools/bench/make_mesh.py (same construction, generated here so
 //! the bench needs no files) at about 20 thousand and 1 million triangles. Rays, generated once
@@ -150,11 +151,21 @@ fn throughput(rays: &[Ray], parallel: bool, trace: impl Fn(&Ray) -> bool + Sync)
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
-    let (sizes, n_rays) = if quick {
+    let (mut sizes, mut n_rays) = if quick {
         (vec![20_000usize], 1 << 14)
     } else {
         (vec![20_000, 1_000_000], 1 << 20)
     };
+    // `--tris N` and `--rays N` override the sizes (for quick experiments).
+    let args: Vec<String> = std::env::args().collect();
+    for w in args.windows(2) {
+        let n = || w[1].parse::<usize>().expect("a number after --tris/--rays");
+        match w[0].as_str() {
+            "--tris" => sizes = vec![n()],
+            "--rays" => n_rays = n(),
+            _ => {}
+        }
+    }
     let kinds = [
         AccelKind::Bvh,
         #[cfg(feature = "embree")]

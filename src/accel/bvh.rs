@@ -1,14 +1,20 @@
-//! obvhs' 8-wide compressed BVH (CWBVH, Ylitie et al. 2017) built with PLOC; we keep the
-//! primitives in the BVH's leaf order so a leaf's primitives sit next to each other in memory.
+//! prism's own acceleration structure: two 4-wide BVHs (`bvh4`), one over triangles stored four
+//! to a SIMD packet (`Triangle4`), one over the analytic shapes (spheres, disks). A scene of
+//! triangles only never touches the second, and the reverse.
 
+use super::bvh4::{Tree, Visit, MAX_LEAF_ITEMS};
 use super::{Hit, Prim};
 use crate::ray::Ray;
-use crate::shape::{triangle::RayShear, PrimGeom};
-use glam::UVec2;
+use crate::shape::triangle::{self, RayShear, RayShear4, Triangle4};
+use crate::shape::{PrimGeom, PrimHit};
+use glam::Vec3;
 use obvhs::aabb::Aabb;
-use obvhs::cwbvh::{builder::build_cwbvh, CwBvh};
-use obvhs::{Boundable, BvhBuildParams};
-use std::time::Duration;
+use obvhs::Boundable;
+
+/// Most triangles in one leaf: two packets. obvhs' SAH collapse decides how many a leaf takes.
+const MAX_LEAF_TRIANGLES: u32 = 8;
+/// Most analytic shapes in one leaf.
+const MAX_LEAF_SHAPES: u32 = 4;
 
 struct PrimBox(Aabb);
 
@@ -18,123 +24,190 @@ impl Boundable for PrimBox {
     }
 }
 
-pub struct Bvh {
-    bvh: Option<CwBvh>,
-    /// Primitives in BVH order: traversal's primitive index addresses these directly.
-    geoms: Vec<PrimGeom>,
-    ids: Vec<u32>,
+fn prim_box(g: &PrimGeom) -> PrimBox {
+    let (lo, hi) = g.bounds();
+    PrimBox(Aabb::new(lo.into(), hi.into()))
 }
 
-/// obvhs' node test ignores boxes that end before t = 1e-4, a fixed absolute distance: rays
-/// leaving a point that close to a surface (a corner, a contact, any scene at a scale of 1e-4)
-/// would pass through it. The box test therefore runs on the same ray started this far behind
-/// its origin, so obvhs' cut-off falls behind the real origin; primitive tests use the real ray.
-const BOX_SHIFT: f32 = 2e-4;
-
-/// The ray for obvhs' box tests (see `BOX_SHIFT`).
-#[inline(always)]
-fn box_ray(ray: &Ray) -> obvhs::ray::Ray {
-    obvhs::ray::Ray::new(
-        (ray.o - ray.d * BOX_SHIFT).into(),
-        ray.d.into(),
-        0.0,
-        ray.t_max + BOX_SHIFT,
-    )
+pub struct Bvh {
+    triangles: Tree,
+    packets: Vec<Triangle4>,
+    shapes: Tree,
+    /// Analytic shapes in leaf order, with their scene-wide ids.
+    shape_geoms: Vec<PrimGeom>,
+    shape_ids: Vec<u32>,
 }
 
 impl Bvh {
     pub fn build(prims: Vec<Prim>) -> Self {
-        if prims.is_empty() {
-            return Self {
-                bvh: None,
-                geoms: Vec::new(),
-                ids: Vec::new(),
-            };
-        }
-        let boxes: Vec<PrimBox> = prims
-            .iter()
-            .map(|p| {
-                let (lo, hi) = p.geom.bounds();
-                PrimBox(Aabb::new(lo.into(), hi.into()))
+        let (tris, others): (Vec<Prim>, Vec<Prim>) = prims
+            .into_iter()
+            .partition(|p| matches!(p.geom, PrimGeom::Triangle(_)));
+        let tri_data: Vec<([Vec3; 3], u32)> = tris
+            .into_iter()
+            .map(|p| match p.geom {
+                PrimGeom::Triangle(v) => (v, p.id),
+                _ => unreachable!("partitioned above"),
             })
             .collect();
-        let bvh = build_cwbvh(
-            &boxes,
-            BvhBuildParams::medium_build(),
-            &mut Duration::default(),
-        );
-        let order = &bvh.primitive_indices;
-        let geoms = order.iter().map(|&i| prims[i as usize].geom).collect();
-        let ids = order.iter().map(|&i| prims[i as usize].id).collect();
+        let tri_boxes: Vec<PrimBox> = tri_data
+            .iter()
+            .map(|(v, _)| prim_box(&PrimGeom::Triangle(*v)))
+            .collect();
+        let mut packets = Vec::with_capacity(tri_data.len().div_ceil(3));
+        let triangles = Tree::build(&tri_boxes, MAX_LEAF_TRIANGLES, |leaf| {
+            let first = packets.len() as u32;
+            let mut buf = arrayvec::ArrayVec::<_, 4>::new();
+            for chunk in leaf.chunks(4) {
+                buf.clear();
+                buf.extend(chunk.iter().map(|&i| tri_data[i as usize]));
+                packets.push(Triangle4::new(&buf));
+            }
+            debug_assert!(packets.len() - first as usize <= MAX_LEAF_ITEMS);
+            (first, packets.len() as u32 - first)
+        });
+        drop(tri_boxes);
+        drop(tri_data);
+        packets.shrink_to_fit();
+
+        let shape_boxes: Vec<PrimBox> = others.iter().map(|p| prim_box(&p.geom)).collect();
+        let mut shape_geoms = Vec::with_capacity(others.len());
+        let mut shape_ids = Vec::with_capacity(others.len());
+        let shapes = Tree::build(&shape_boxes, MAX_LEAF_SHAPES, |leaf| {
+            let first = shape_geoms.len() as u32;
+            for &i in leaf {
+                shape_geoms.push(others[i as usize].geom);
+                shape_ids.push(others[i as usize].id);
+            }
+            (first, leaf.len() as u32)
+        });
         Self {
-            bvh: Some(bvh),
-            geoms,
-            ids,
+            triangles,
+            packets,
+            shapes,
+            shape_geoms,
+            shape_ids,
         }
     }
 
-    pub fn prims(&self) -> &[PrimGeom] {
-        &self.geoms
+    /// Bounds of everything (min, max); inverted (+inf, -inf) when empty.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        (
+            self.triangles.lo.min(self.shapes.lo),
+            self.triangles.hi.max(self.shapes.hi),
+        )
     }
 
-    /// Closest hit. Uses obvhs' `traverse!` macro so the primitive test inlines into the loop.
+    /// Closest hit.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let bvh = self.bvh.as_ref()?;
-        let shear = RayShear::new(ray);
-        let mut oray = box_ray(ray);
         let mut t_max = ray.t_max;
         let mut best = None;
-        let mut state = bvh.new_traversal(oray.direction);
-        let mut node;
-        obvhs::traverse!(
-            bvh,
-            node,
-            state,
-            node.intersect_ray(&oray, state.oct_inv4),
-            {
-                let i = state.primitive_id as usize;
-                if let Some(h) = self.geoms[i].intersect(ray, &shear, t_max) {
-                    t_max = h.t;
-                    oray.tmax = h.t + BOX_SHIFT;
-                    best = Some(Hit {
-                        prim: self.ids[i],
-                        hit: h,
-                    });
-                }
-            }
-        );
+        if !self.packets.is_empty() {
+            let shear = RayShear::new(ray);
+            let shear4 = RayShear4::new(&shear);
+            self.triangles
+                .traverse::<true>(ray, &mut t_max, |first, count, t_max| {
+                    for p in &self.packets[first as usize..(first + count) as usize] {
+                        let h = p.intersect(&shear4, *t_max);
+                        let mut lanes = h.mask;
+                        while lanes != 0 {
+                            let lane = lanes.trailing_zeros() as usize;
+                            lanes &= lanes - 1;
+                            if h.t[lane] < *t_max {
+                                *t_max = h.t[lane];
+                                best = Some(Hit {
+                                    prim: p.ids[lane],
+                                    hit: PrimHit {
+                                        t: h.t[lane],
+                                        b1: h.b1[lane],
+                                        b2: h.b2[lane],
+                                    },
+                                });
+                            }
+                        }
+                        let mut lanes = h.redo;
+                        while lanes != 0 {
+                            let lane = lanes.trailing_zeros() as usize;
+                            lanes &= lanes - 1;
+                            if let Some(h) = triangle::intersect(&shear, *t_max, &p.vertices(lane))
+                            {
+                                *t_max = h.t;
+                                best = Some(Hit {
+                                    prim: p.ids[lane],
+                                    hit: PrimHit {
+                                        t: h.t,
+                                        b1: h.b1,
+                                        b2: h.b2,
+                                    },
+                                });
+                            }
+                        }
+                    }
+                    Visit::Continue
+                });
+        }
+        if !self.shape_geoms.is_empty() {
+            self.shapes
+                .traverse::<true>(ray, &mut t_max, |first, count, t_max| {
+                    for i in first as usize..(first + count) as usize {
+                        if let Some(h) = self.shape_geoms[i].intersect_analytic(ray, *t_max) {
+                            *t_max = h.t;
+                            best = Some(Hit {
+                                prim: self.shape_ids[i],
+                                hit: h,
+                            });
+                        }
+                    }
+                    Visit::Continue
+                });
+        }
         best
     }
 
     /// True if any primitive lies on the ray within (0, t_max); stops at the first one found.
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let Some(bvh) = self.bvh.as_ref() else {
-            return false;
-        };
-        let shear = RayShear::new(ray);
-        let oray = box_ray(ray);
-        let mut state = bvh.new_traversal(oray.direction);
-        let mut node;
-        let mut hit = false;
-        'search: {
-            obvhs::traverse!(
-                bvh,
-                node,
-                state,
-                node.intersect_ray(&oray, state.oct_inv4),
-                {
-                    if self.geoms[state.primitive_id as usize]
-                        .intersect(ray, &shear, ray.t_max)
-                        .is_some()
-                    {
-                        hit = true;
-                        break 'search;
-                    }
-                }
-            );
+        let mut t_max = ray.t_max;
+        if !self.packets.is_empty() {
+            let shear = RayShear::new(ray);
+            let shear4 = RayShear4::new(&shear);
+            let blocked =
+                self.triangles
+                    .traverse::<false>(ray, &mut t_max, |first, count, t_max| {
+                        for p in &self.packets[first as usize..(first + count) as usize] {
+                            let h = p.intersect(&shear4, *t_max);
+                            if h.mask != 0 {
+                                return Visit::Stop;
+                            }
+                            let mut lanes = h.redo;
+                            while lanes != 0 {
+                                let lane = lanes.trailing_zeros() as usize;
+                                lanes &= lanes - 1;
+                                if triangle::intersect(&shear, *t_max, &p.vertices(lane)).is_some()
+                                {
+                                    return Visit::Stop;
+                                }
+                            }
+                        }
+                        Visit::Continue
+                    });
+            if blocked {
+                return true;
+            }
         }
-        hit
+        !self.shape_geoms.is_empty()
+            && self
+                .shapes
+                .traverse::<false>(ray, &mut t_max, |first, count, t_max| {
+                    let blocked = self.shape_geoms[first as usize..(first + count) as usize]
+                        .iter()
+                        .any(|g| g.intersect_analytic(ray, *t_max).is_some());
+                    if blocked {
+                        Visit::Stop
+                    } else {
+                        Visit::Continue
+                    }
+                })
     }
 }

@@ -4,6 +4,7 @@
 use crate::math::float::gamma;
 use crate::ray::Ray;
 use glam::Vec3;
+use wide::{f32x4, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt, CmpNe};
 
 /// Per-ray constants of the watertight test: the axis permutation that makes the ray's largest
 /// direction component z, and the shear that aligns the ray with z.
@@ -119,29 +120,202 @@ pub fn intersect(s: &RayShear, t_max: f32, v: &[Vec3; 3]) -> Option<TriHit> {
     })
 }
 
+/// Arithmetic shared by the scalar and the 4-lane triangle tests, so both round identically.
+trait Lane: Copy + std::ops::Add<Output = Self> + std::ops::Mul<Output = Self> {
+    fn splat(x: f32) -> Self;
+    fn abs(self) -> Self;
+    fn max(self, o: Self) -> Self;
+}
+
+impl Lane for f32 {
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        f32::max(self, o)
+    }
+}
+
+impl Lane for f32x4 {
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        f32x4::splat(x)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32x4::abs(self)
+    }
+    // Operands are never NaN where the result is used (NaN lanes fail earlier tests).
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        self.fast_max(o)
+    }
+}
+
 /// Upper bound on the rounding error of a hit's t (see `intersect`).
 #[allow(clippy::too_many_arguments)]
-#[inline]
-fn near_hit_error(
-    ax: f32,
-    ay: f32,
-    bx: f32,
-    by: f32,
-    cx: f32,
-    cy: f32,
-    z: [f32; 3],
-    e: [f32; 3],
-    inv_det: f32,
-) -> f32 {
+#[inline(always)]
+fn near_hit_error<T: Lane>(
+    ax: T,
+    ay: T,
+    bx: T,
+    by: T,
+    cx: T,
+    cy: T,
+    z: [T; 3],
+    e: [T; 3],
+    inv_det: T,
+) -> T {
     let max_z = z[0].abs().max(z[1].abs()).max(z[2].abs());
     let max_x = ax.abs().max(bx.abs()).max(cx.abs());
     let max_y = ay.abs().max(by.abs()).max(cy.abs());
     let max_e = e[0].abs().max(e[1].abs()).max(e[2].abs());
-    let dz = gamma(3) * max_z;
-    let dx = gamma(5) * (max_x + max_z);
-    let dy = gamma(5) * (max_y + max_z);
-    let de = 2.0 * (gamma(2) * max_x * max_y + dy * max_x + dx * max_y);
-    3.0 * (gamma(3) * max_e * max_z + de * max_z + dz * max_e) * inv_det.abs()
+    let g = |n: i32| T::splat(gamma(n));
+    let dz = g(3) * max_z;
+    let dx = g(5) * (max_x + max_z);
+    let dy = g(5) * (max_y + max_z);
+    let de = T::splat(2.0) * (g(2) * max_x * max_y + dy * max_x + dx * max_y);
+    T::splat(3.0) * (g(3) * max_e * max_z + de * max_z + dz * max_e) * inv_det.abs()
+}
+
+/// Four triangles side by side, one per SIMD lane (structure of arrays), so one ray tests all
+/// four with the same instructions the scalar test runs on one. Unused lanes hold NaN vertices,
+/// which no ray hits.
+#[derive(Clone, Copy, Debug)]
+#[repr(C)]
+pub struct Triangle4 {
+    /// `v[3 * vertex + axis]`: one coordinate of one vertex, for the four lanes.
+    v: [f32x4; 9],
+    /// The caller's id of each lane's triangle.
+    pub ids: [u32; 4],
+}
+
+impl Triangle4 {
+    /// Packs one to four triangles with their ids.
+    pub fn new(tris: &[([Vec3; 3], u32)]) -> Self {
+        assert!(
+            (1..=4).contains(&tris.len()),
+            "Triangle4 holds 1 to 4 triangles"
+        );
+        let mut v = [[f32::NAN; 4]; 9];
+        let mut ids = [u32::MAX; 4];
+        for (lane, (verts, id)) in tris.iter().enumerate() {
+            for (k, p) in verts.iter().enumerate() {
+                for axis in 0..3 {
+                    v[3 * k + axis][lane] = p[axis];
+                }
+            }
+            ids[lane] = *id;
+        }
+        Self {
+            v: v.map(f32x4::from),
+            ids,
+        }
+    }
+
+    /// The vertices of the triangle in `lane`.
+    #[inline]
+    pub fn vertices(&self, lane: usize) -> [Vec3; 3] {
+        let c = |i: usize| self.v[i].as_array_ref()[lane];
+        [0, 1, 2].map(|k| Vec3::new(c(3 * k), c(3 * k + 1), c(3 * k + 2)))
+    }
+
+    /// The watertight test on all four lanes at once, with the scalar test's operations in the
+    /// same order, so every lane's result is bit-identical to `intersect`'s. Lanes with an edge
+    /// function exactly zero are left to the caller (`Hits4::redo`), which runs `intersect` on
+    /// them for its f64 refinement; they are rare (rays through edges and vertices).
+    #[inline(always)]
+    pub fn intersect(&self, s: &RayShear4, t_max: f32) -> Hits4 {
+        let [kx, ky, kz] = s.k;
+        let project = |vertex: usize| {
+            let x = self.v[3 * vertex + kx] - s.o[0];
+            let y = self.v[3 * vertex + ky] - s.o[1];
+            let z = self.v[3 * vertex + kz] - s.o[2];
+            (x - s.sx * z, y - s.sy * z, z)
+        };
+        let (ax, ay, az) = project(0);
+        let (bx, by, bz) = project(1);
+        let (cx, cy, cz) = project(2);
+        let u = cx * by - cy * bx;
+        let w_ = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        let zero = f32x4::ZERO;
+        let any_zero = u.cmp_eq(zero) | w_.cmp_eq(zero) | w.cmp_eq(zero);
+        let same_sign = (u.cmp_ge(zero) & w_.cmp_ge(zero) & w.cmp_ge(zero))
+            | (u.cmp_le(zero) & w_.cmp_le(zero) & w.cmp_le(zero));
+        let det = u + w_ + w;
+        let (az, bz, cz) = (s.sz * az, s.sz * bz, s.sz * cz);
+        let t_scaled = u * az + w_ * bz + w * cz;
+        // t_scaled · sign(det), as the scalar test; exact (a sign flip).
+        let ts = t_scaled ^ (det & f32x4::splat(-0.0));
+        let in_range = ts.cmp_gt(zero) & ts.cmp_lt(f32x4::splat(t_max) * det.abs());
+        let mut mask = (same_sign & det.cmp_ne(zero) & in_range & !any_zero).move_mask() & 0xf;
+        let redo = (any_zero.move_mask() & 0xf) as u32;
+        if mask == 0 {
+            return Hits4 {
+                mask: 0,
+                redo,
+                t: [0.0; 4],
+                b1: [0.0; 4],
+                b2: [0.0; 4],
+            };
+        }
+        let inv = f32x4::ONE / det;
+        let t = t_scaled * inv;
+        let err = near_hit_error(ax, ay, bx, by, cx, cy, [az, bz, cz], [u, w_, w], inv);
+        // t > 0 and not NaN, beyond its own rounding error.
+        mask &= (t.cmp_gt(zero) & !t.cmp_lt(err)).move_mask();
+        Hits4 {
+            mask: mask as u32,
+            redo,
+            t: t.to_array(),
+            b1: (w_ * inv).to_array(),
+            b2: (w * inv).to_array(),
+        }
+    }
+}
+
+/// What `Triangle4::intersect` found: `mask` has bit i set where lane i is hit (at `t[i]`, with
+/// barycentrics `b1[i]`, `b2[i]`); `redo` marks lanes the caller must test with `intersect`.
+#[derive(Clone, Copy, Debug)]
+pub struct Hits4 {
+    pub mask: u32,
+    pub redo: u32,
+    pub t: [f32; 4],
+    pub b1: [f32; 4],
+    pub b2: [f32; 4],
+}
+
+/// `RayShear` with its per-ray constants in SIMD lanes, for `Triangle4`.
+#[derive(Clone, Copy, Debug)]
+pub struct RayShear4 {
+    /// The ray origin, permuted (kx, ky, kz).
+    o: [f32x4; 3],
+    k: [usize; 3],
+    sx: f32x4,
+    sy: f32x4,
+    sz: f32x4,
+}
+
+impl RayShear4 {
+    #[inline]
+    pub fn new(s: &RayShear) -> Self {
+        let k = s.k.map(|k| (k & 3) as usize);
+        let o = [s.o.x, s.o.y, s.o.z];
+        Self {
+            o: k.map(|k| f32x4::splat(o[k])),
+            k,
+            sx: f32x4::splat(s.sx),
+            sy: f32x4::splat(s.sy),
+            sz: f32x4::splat(s.sz),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -202,6 +376,82 @@ mod tests {
             }
         }
         assert_eq!(self_hits, 0, "rays re-hit the triangle they leave");
+    }
+
+    /// Every lane of the packet test agrees bit for bit with the scalar test, or is handed back
+    /// for it (`redo`, an edge function exactly zero). Rays aim at edges and vertices (where
+    /// rounding decides) as well as inside; some lanes are degenerate, some unused.
+    #[test]
+    fn packet_test_matches_scalar_test() {
+        let mut state = 11u32;
+        let mut next = || {
+            state = state.wrapping_mul(747796405).wrapping_add(2891336453);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let (mut hits, mut redone) = (0, 0);
+        for _ in 0..20000 {
+            let mut tris = Vec::new();
+            for id in 0..4 {
+                let mut v = [0; 3].map(|_| Vec3::new(next(), next(), next()) * 4.0 - 2.0);
+                if id == 3 && next() < 0.3 {
+                    v[2] = v[1]; // degenerate
+                }
+                tris.push((v, id));
+            }
+            let n = 1 + (next() * 4.0) as usize;
+            let packet = Triangle4::new(&tris[..n]);
+            let target = tris[(next() * n as f32) as usize % n].0;
+            let (b1, b2) = match (next() * 3.0) as u32 {
+                0 => (0.0, next()), // on an edge
+                1 => (1.0, 0.0),    // at a vertex
+                _ => (next() * 0.6, next() * 0.4),
+            };
+            let aim = target[0] * (1.0 - b1 - b2) + target[1] * b1 + target[2] * b2;
+            // Origins sometimes on the target itself (rays leaving a surface).
+            let o = if next() < 0.1 {
+                aim
+            } else {
+                Vec3::new(next(), next(), next()) * 8.0 - 4.0
+            };
+            let d = if next() < 0.1 {
+                Vec3::new(next(), next(), next()) - 0.5
+            } else {
+                aim - o
+            };
+            if d.length_squared() == 0.0 {
+                continue;
+            }
+            let ray = Ray::new(o, d.normalize());
+            let shear = RayShear::new(&ray);
+            let t_max = if next() < 0.2 {
+                next() * 4.0
+            } else {
+                f32::INFINITY
+            };
+            let h = packet.intersect(&RayShear4::new(&shear), t_max);
+            assert_eq!((h.mask | h.redo) >> n, 0, "an unused lane was hit");
+            assert_eq!(h.mask & h.redo, 0);
+            for (lane, (v, _)) in tris[..n].iter().enumerate() {
+                let bit = 1 << lane;
+                if h.redo & bit != 0 {
+                    redone += 1;
+                    continue;
+                }
+                let scalar = intersect(&shear, t_max, v);
+                let packet = (h.mask & bit != 0).then(|| TriHit {
+                    t: h.t[lane],
+                    b1: h.b1[lane],
+                    b2: h.b2[lane],
+                });
+                assert_eq!(packet, scalar, "lane {lane} of {v:?}, ray {ray:?}");
+                hits += scalar.is_some() as u32;
+            }
+        }
+        assert!(hits > 5000, "too few hits ({hits}) to test anything");
+        assert!(
+            redone > 100,
+            "edge and vertex cases not exercised ({redone})"
+        );
     }
 
     #[test]
