@@ -3,7 +3,8 @@
 
 use super::mesh::Mesh;
 use glam::{Vec2, Vec3};
-use ply_rs_bw::ply::{DefaultElement, Property};
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{Property, PropertyAccess, PropertyAccessResult};
 use std::path::Path;
 
 /// Loads an OBJ or PLY file by its extension.
@@ -74,73 +75,182 @@ fn load_obj(path: &Path) -> Result<Mesh, String> {
     Ok(mesh)
 }
 
-fn scalar(p: &Property) -> Option<f32> {
-    Some(match *p {
-        Property::Char(v) => v as f32,
-        Property::UChar(v) => v as f32,
-        Property::Short(v) => v as f32,
-        Property::UShort(v) => v as f32,
-        Property::Int(v) => v as f32,
-        Property::UInt(v) => v as f32,
-        Property::Float(v) => v,
-        Property::Double(v) => v as f32,
-        _ => return None,
-    })
+/// One PLY vertex as prism keeps it. Reading into this (rather than ply-rs-bw's default
+/// element, a map from property name to value per vertex) keeps a million-vertex file at a few
+/// tens of bytes per vertex while it loads.
+struct PlyVertex {
+    /// x, y, z, nx, ny, nz, u, v.
+    c: [f32; 8],
+    /// Bit i set where `c[i]` was in the file.
+    set: u8,
 }
 
-fn index_list(p: &Property) -> Option<Vec<i64>> {
-    Some(match p {
-        Property::ListChar(v) => v.iter().map(|&x| x as i64).collect(),
-        Property::ListUChar(v) => v.iter().map(|&x| x as i64).collect(),
-        Property::ListShort(v) => v.iter().map(|&x| x as i64).collect(),
-        Property::ListUShort(v) => v.iter().map(|&x| x as i64).collect(),
-        Property::ListInt(v) => v.iter().map(|&x| x as i64).collect(),
-        Property::ListUInt(v) => v.iter().map(|&x| x as i64).collect(),
-        _ => return None,
-    })
+impl PlyVertex {
+    fn slot(name: &str) -> Option<usize> {
+        Some(match name {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            "nx" => 3,
+            "ny" => 4,
+            "nz" => 5,
+            "u" | "s" | "texture_u" => 6,
+            "v" | "t" | "texture_v" => 7,
+            _ => return None,
+        })
+    }
+
+    fn put(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        match Self::slot(name) {
+            Some(i) => {
+                self.c[i] = value;
+                self.set |= 1 << i;
+                PropertyAccessResult::Set
+            }
+            None => PropertyAccessResult::Ignored,
+        }
+    }
+}
+
+impl PropertyAccess for PlyVertex {
+    fn new() -> Self {
+        Self {
+            c: [0.0; 8],
+            set: 0,
+        }
+    }
+    fn set_float(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        self.put(name, value)
+    }
+    fn set_property(&mut self, name: &str, p: Property) -> PropertyAccessResult {
+        match p.to_f32_lossy() {
+            Some(v) => self.put(name, v),
+            None => PropertyAccessResult::Ignored,
+        }
+    }
+}
+
+/// One PLY face: its vertex indices, inline for triangles and quads.
+enum PlyFace {
+    Missing,
+    Small { n: u8, v: [i64; 4] },
+    Large(Vec<i64>),
+}
+
+impl PlyFace {
+    fn indices(&self) -> Option<&[i64]> {
+        match self {
+            PlyFace::Missing => None,
+            PlyFace::Small { n, v } => Some(&v[..*n as usize]),
+            PlyFace::Large(v) => Some(v),
+        }
+    }
+}
+
+impl PropertyAccess for PlyFace {
+    fn new() -> Self {
+        PlyFace::Missing
+    }
+    fn set_property(&mut self, name: &str, p: Property) -> PropertyAccessResult {
+        if name != "vertex_indices" && name != "vertex_index" {
+            return PropertyAccessResult::Ignored;
+        }
+        let list: Vec<i64> = match p {
+            Property::ListChar(v) => v.iter().map(|&x| x as i64).collect(),
+            Property::ListUChar(v) => v.iter().map(|&x| x as i64).collect(),
+            Property::ListShort(v) => v.iter().map(|&x| x as i64).collect(),
+            Property::ListUShort(v) => v.iter().map(|&x| x as i64).collect(),
+            Property::ListInt(v) => v.iter().map(|&x| x as i64).collect(),
+            Property::ListUInt(v) => v.iter().map(|&x| x as i64).collect(),
+            _ => return PropertyAccessResult::UnsupportedType,
+        };
+        *self = if list.len() <= 4 {
+            let mut v = [0; 4];
+            v[..list.len()].copy_from_slice(&list);
+            PlyFace::Small {
+                n: list.len() as u8,
+                v,
+            }
+        } else {
+            PlyFace::Large(list)
+        };
+        PropertyAccessResult::Set
+    }
+}
+
+/// Any other element (skipped).
+struct PlyOther;
+
+impl PropertyAccess for PlyOther {
+    fn new() -> Self {
+        PlyOther
+    }
 }
 
 fn load_ply(path: &Path) -> Result<Mesh, String> {
     let name = path.display();
     let file = std::fs::File::open(path).map_err(|e| format!("`{name}`: {e}"))?;
-    let mut reader = std::io::BufReader::new(file);
-    let parser = ply_rs_bw::parser::Parser::<DefaultElement>::new();
-    let ply = parser
-        .read_ply(&mut reader)
+    let mut reader = Reader::new(std::io::BufReader::new(file));
+    let header = Parser::<PlyOther>::new()
+        .read_header(&mut reader)
         .map_err(|e| format!("`{name}`: PLY {e}"))?;
-    let vertices = ply
-        .payload
-        .get("vertex")
-        .ok_or(format!("`{name}` has no `vertex` element"))?;
-    let faces = ply
-        .payload
-        .get("face")
-        .ok_or(format!("`{name}` has no `face` element"))?;
-    let get =
-        |v: &DefaultElement, keys: &[&str]| keys.iter().find_map(|k| v.get(*k).and_then(scalar));
-    let mut mesh = Mesh::default();
-    let has_normals = vertices.first().is_some_and(|v| get(v, &["nx"]).is_some());
-    let has_uvs = vertices
-        .first()
-        .is_some_and(|v| get(v, &["u", "s", "texture_u"]).is_some());
-    for (i, v) in vertices.iter().enumerate() {
-        let coord = |k: &str| get(v, &[k]).ok_or(format!("`{name}`: vertex {i} lacks `{k}`"));
-        mesh.positions
-            .push(Vec3::new(coord("x")?, coord("y")?, coord("z")?));
-        if has_normals {
-            mesh.normals
-                .push(Vec3::new(coord("nx")?, coord("ny")?, coord("nz")?));
-        }
-        if has_uvs {
-            let u = get(v, &["u", "s", "texture_u"]).unwrap_or(0.0);
-            let w = get(v, &["v", "t", "texture_v"]).unwrap_or(0.0);
-            mesh.uvs.push(Vec2::new(u, w));
+    let (mut vertices, mut faces) = (None, None);
+    for element in header.elements.values() {
+        let err = |e| format!("`{name}`: PLY element `{}`: {e}", element.name);
+        match element.name.as_str() {
+            "vertex" => {
+                vertices = Some(
+                    Parser::<PlyVertex>::new()
+                        .read_payload_for_element(&mut reader, element, &header)
+                        .map_err(err)?,
+                )
+            }
+            "face" => {
+                faces = Some(
+                    Parser::<PlyFace>::new()
+                        .read_payload_for_element(&mut reader, element, &header)
+                        .map_err(err)?,
+                )
+            }
+            _ => {
+                Parser::<PlyOther>::new()
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(err)?;
+            }
         }
     }
+    let vertices = vertices.ok_or(format!("`{name}` has no `vertex` element"))?;
+    let faces = faces.ok_or(format!("`{name}` has no `face` element"))?;
+    let mut mesh = Mesh::default();
+    let first = vertices.first().map_or(0, |v| v.set);
+    let (has_normals, has_uvs) = (first & 1 << 3 != 0, first & 1 << 6 != 0);
+    mesh.positions.reserve_exact(vertices.len());
+    for (i, v) in vertices.iter().enumerate() {
+        if let Some(k) = (0..3).find(|&k| v.set & (1 << k) == 0) {
+            return Err(format!(
+                "`{name}`: vertex {i} lacks `{}`",
+                ["x", "y", "z"][k]
+            ));
+        }
+        mesh.positions.push(Vec3::new(v.c[0], v.c[1], v.c[2]));
+        if has_normals {
+            if let Some(k) = (3..6).find(|&k| v.set & (1 << k) == 0) {
+                return Err(format!(
+                    "`{name}`: vertex {i} lacks `{}`",
+                    ["nx", "ny", "nz"][k - 3]
+                ));
+            }
+            mesh.normals.push(Vec3::new(v.c[3], v.c[4], v.c[5]));
+        }
+        if has_uvs {
+            mesh.uvs.push(Vec2::new(v.c[6], v.c[7]));
+        }
+    }
+    drop(vertices);
+    mesh.indices.reserve_exact(faces.len());
     for (f, face) in faces.iter().enumerate() {
-        let idx = ["vertex_indices", "vertex_index"]
-            .iter()
-            .find_map(|k| face.get(*k).and_then(index_list))
+        let idx = face
+            .indices()
             .ok_or(format!("`{name}`: face {f} has no `vertex_indices` list"))?;
         if idx.len() < 3 {
             return Err(format!(
