@@ -94,6 +94,8 @@ impl Tree {
                 hi: Vec3::NEG_INFINITY,
             };
         }
+        // obvhs' `slow_build` preset: about twice `medium_build`'s build time (1.8 s against
+        // 1.0 s for a million triangles on 2 cores) for 9-14% more rays per second.
         let params = BvhBuildParams {
             max_prims_per_leaf: max_leaf_prims,
             ..BvhBuildParams::slow_build()
