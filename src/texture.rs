@@ -113,8 +113,19 @@ pub enum SpectralTexture {
 }
 
 impl SpectralTexture {
+    /// The value at `uv` and the path's wavelengths. A uniform spectrum (most parameters of
+    /// most scenes) is looked up inline; textures go through `eval_varying`, out of line, so a
+    /// scene without textures pays nothing for them.
     #[inline]
     pub fn eval<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Spectrum<N> {
+        match self {
+            SpectralTexture::Uniform(c) => c.eval(wl),
+            _ => self.eval_varying(uv, wl),
+        }
+    }
+
+    #[inline(never)]
+    fn eval_varying<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Spectrum<N> {
         match self {
             SpectralTexture::Uniform(c) => c.eval(wl),
             SpectralTexture::Checkerboard {

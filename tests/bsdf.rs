@@ -13,7 +13,7 @@ mod common;
 
 use common::{alpha, chi2_test};
 use glam::{Vec2, Vec3};
-use prism::bsdf::{Bsdf, Material};
+use prism::bsdf::{Bsdf, BsdfLike, Material};
 use prism::interaction::SurfaceInteraction;
 use prism::math::rng::Pcg32;
 use prism::math::Frame;

@@ -13,6 +13,7 @@
 //! `cargo test --release --test dispersion -- --nocapture` prints the measured figures.
 
 use glam::{Vec2, Vec3};
+use prism::bsdf::BsdfLike;
 use prism::film::{spectral_channel_name, Film};
 use prism::integrator;
 use prism::ray::Ray;

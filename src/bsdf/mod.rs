@@ -4,7 +4,10 @@
 //! `conductor`, `dielectric`, …, combined by `twosided`, `blend` and `mask`) whose parameters
 //! are spectra or textures. At a hit it becomes a `Bsdf<N>`: a mixture of at most `MAX_LOBES`
 //! leaf lobes with their parameters evaluated at the path's N wavelengths and the hit's uv,
-//! built on the stack (no allocation, static dispatch).
+//! built on the stack (no allocation, static dispatch). A plain `diffuse` material, the
+//! commonest by far, becomes a lone diffuse lobe instead, which the integrator handles without
+//! any of the mixture's machinery: a diffuse-only scene pays nothing for the other materials
+//! (docs/performance.md).
 //!
 //! Directions are in the local shading frame (z = normal) and point away from the surface:
 //! `wi` towards the previous vertex (the camera side), `wo` towards the next (the light side).
@@ -187,12 +190,30 @@ impl<const N: usize> BsdfSample<N> {
     }
 }
 
-/// A BSDF at one hit: a mixture of leaf lobes whose weights sum to 1.
+/// A BSDF at one hit.
+#[derive(Clone, Debug)]
+pub enum Bsdf<'a, const N: usize> {
+    /// A plain `diffuse` material: one front-side lobe of weight 1 (every hit of a diffuse-only
+    /// scene). Kept apart so that the integrator can run its per-hit code on it directly,
+    /// without the mixture's loops over lobes, dispatch on their kind and calls out of line.
+    Diffuse(Diffuse<N>),
+    /// Any other material.
+    Mixture(Mixture<'a, N>),
+}
+
+/// Leaf lobes whose weights sum to 1, each on its side (`twosided` mirrors the back side).
 #[derive(Clone, Debug, Default)]
-pub struct Bsdf<'a, const N: usize> {
+pub struct Mixture<'a, const N: usize> {
     // An ArrayVec rather than a filled array: most hits have one lobe, and initialising all
     // MAX_LOBES slots of the largest lobe variant at every hit showed in profiles.
     lobes: ArrayVec<(Lobe<'a, N>, f32, bool), MAX_LOBES>,
+}
+
+/// An empty mixture (for `fill_bsdf` to fill).
+impl<const N: usize> Default for Bsdf<'_, N> {
+    fn default() -> Self {
+        Bsdf::Mixture(Mixture::default())
+    }
 }
 
 impl Material {
@@ -203,6 +224,24 @@ impl Material {
             Material::Blend { a, b, .. } => a.max_lobes() + b.max_lobes(),
             Material::Mask { inner, .. } => inner.max_lobes() + 1,
             _ => 1,
+        }
+    }
+
+    /// True if some lobe of the material samples directions by wavelength (a dielectric with a
+    /// dispersive index): the integrator then keeps per-lane densities.
+    pub fn dispersive(&self) -> bool {
+        match self {
+            Material::Twosided { front, back } => front.dispersive() || back.dispersive(),
+            Material::Blend { a, b, .. } => a.dispersive() || b.dispersive(),
+            Material::Mask { inner, .. } => inner.dispersive(),
+            Material::Dielectric { ior, .. }
+            | Material::RoughDielectric { ior, .. }
+            | Material::ThinDielectric { ior, .. } => ior.dispersive(),
+            Material::Diffuse { .. }
+            | Material::Conductor(_)
+            | Material::RoughConductor { .. }
+            | Material::Plastic { .. }
+            | Material::RoughPlastic { .. } => false,
         }
     }
 
@@ -219,9 +258,9 @@ impl Material {
         b
     }
 
-    /// `bsdf`, written into `out` (cleared first): the path loop reuses one `Bsdf`, so its
-    /// lobes are written once in place instead of being returned and copied at every hit.
-    #[inline]
+    /// `bsdf`, written into `out`: the path loop reuses one `Bsdf`, so a mixture's lobes are
+    /// written once in place instead of being returned and copied at every hit.
+    #[inline(always)]
     pub fn fill_bsdf<'a, const N: usize>(
         &'a self,
         si: &SurfaceInteraction,
@@ -229,18 +268,35 @@ impl Material {
         wl: &Wavelengths<N>,
         out: &mut Bsdf<'a, N>,
     ) {
-        out.lobes.clear();
-        self.add_lobes(si, wi, wl, 1.0, false, out);
+        // The commonest material, built here, inline (add_lobes is recursive, so never inlined).
+        if let Material::Diffuse { reflectance } = self {
+            *out = Bsdf::Diffuse(Diffuse {
+                reflectance: reflectance.eval(si.uv, wl),
+            });
+            return;
+        }
+        if !matches!(out, Bsdf::Mixture(_)) {
+            *out = Bsdf::default();
+        }
+        let Bsdf::Mixture(m) = out else {
+            unreachable!("`out` was made a mixture just above")
+        };
+        m.lobes.clear();
+        self.add_lobes(si, wi.z, wl, 1.0, false, m);
     }
 
+    /// Adds the material's lobes to `out`, their weights scaled by `weight`. Of the direction
+    /// the path arrives from only its side matters here (`twosided`), so only `cos_i` = wi.z
+    /// is passed: wi.x and wi.y are then computed only where a mixture reads them, never for a
+    /// diffuse-only scene.
     fn add_lobes<'a, const N: usize>(
         &'a self,
         si: &SurfaceInteraction,
-        wi: Vec3,
+        cos_i: f32,
         wl: &Wavelengths<N>,
         weight: f32,
         flip: bool,
-        out: &mut Bsdf<'a, N>,
+        out: &mut Mixture<'a, N>,
     ) {
         let lobe = match self {
             Material::Diffuse { reflectance } => Lobe::Diffuse(Diffuse {
@@ -320,20 +376,20 @@ impl Material {
             }),
             Material::Twosided { front, back } => {
                 // The side is decided by where the path arrives from, as Mitsuba does.
-                let back_side = (wi.z < 0.0) != flip;
+                let back_side = (cos_i < 0.0) != flip;
                 let m = if back_side { back } else { front };
-                m.add_lobes(si, wi, wl, weight, flip ^ back_side, out);
+                m.add_lobes(si, cos_i, wl, weight, flip ^ back_side, out);
                 return;
             }
             Material::Blend { a, b, weight: w } => {
                 let t = w.eval(si.uv).clamp(0.0, 1.0);
-                a.add_lobes(si, wi, wl, weight * (1.0 - t), flip, out);
-                b.add_lobes(si, wi, wl, weight * t, flip, out);
+                a.add_lobes(si, cos_i, wl, weight * (1.0 - t), flip, out);
+                b.add_lobes(si, cos_i, wl, weight * t, flip, out);
                 return;
             }
             Material::Mask { inner, opacity } => {
                 let a = opacity.eval(si.uv).clamp(0.0, 1.0);
-                inner.add_lobes(si, wi, wl, weight * a, flip, out);
+                inner.add_lobes(si, cos_i, wl, weight * a, flip, out);
                 Lobe::Null.push(weight * (1.0 - a), false, out);
                 return;
             }
@@ -358,7 +414,7 @@ impl Material {
 }
 
 impl<'a, const N: usize> Lobe<'a, N> {
-    fn push(self, weight: f32, flip: bool, out: &mut Bsdf<'a, N>) {
+    fn push(self, weight: f32, flip: bool, out: &mut Mixture<'a, N>) {
         if weight > 0.0 && !out.lobes.is_full() {
             out.lobes.push((self, weight, flip));
         }
@@ -484,10 +540,112 @@ fn mirror(v: Vec3, flip: bool) -> Vec3 {
     }
 }
 
-impl<const N: usize> Bsdf<'_, N> {
+/// What the integrator asks of a BSDF at a hit; directions in the local shading frame.
+///
+/// `Bsdf` answers by dispatching to its variant. The integrator instead matches on the variant
+/// once per hit and runs its per-hit code on the variant itself (generic code, one copy per
+/// variant), so a plain diffuse material costs no dispatch at all (`integrator::path`).
+pub trait BsdfLike<const N: usize> {
     /// f(wi, wo) · |cos θ_o| of the smooth lobes (Dirac lobes contribute nothing here).
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N>;
+    /// Hero density with which `sample` produces `wo` from its smooth lobes.
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32;
+    /// Per-lane densities with which `sample` produces `wo` from its smooth lobes.
+    fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N>;
+    /// `uc` picks a lobe (by weight), `u` the direction within it.
+    fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>>;
+    /// True if some lobe is not a Dirac lobe: emitter sampling can then contribute.
+    fn has_smooth(&self) -> bool;
+    /// True if sampling depends on wavelength (the integrator then tracks per-lane densities).
+    fn dispersive(&self) -> bool;
+}
+
+impl<const N: usize> BsdfLike<N> for Diffuse<N> {
     #[inline]
-    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+        Diffuse::eval(self, wi, wo)
+    }
+
+    #[inline]
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        Diffuse::pdf(self, wi, wo)
+    }
+
+    #[inline]
+    fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+        Spectrum::splat(Diffuse::pdf(self, wi, wo))
+    }
+
+    #[inline]
+    fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+        Diffuse::sample(self, wi, uc, u)
+    }
+
+    #[inline]
+    fn has_smooth(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn dispersive(&self) -> bool {
+        false
+    }
+}
+
+impl<const N: usize> BsdfLike<N> for Bsdf<'_, N> {
+    #[inline]
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+        match self {
+            Bsdf::Diffuse(d) => d.eval(wi, wo),
+            Bsdf::Mixture(m) => m.eval(wi, wo),
+        }
+    }
+
+    #[inline]
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        match self {
+            Bsdf::Diffuse(d) => d.pdf(wi, wo),
+            Bsdf::Mixture(m) => m.pdf(wi, wo),
+        }
+    }
+
+    #[inline]
+    fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+        match self {
+            Bsdf::Diffuse(d) => d.pdf_lanes(wi, wo),
+            Bsdf::Mixture(m) => m.pdf_lanes(wi, wo),
+        }
+    }
+
+    #[inline]
+    fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+        match self {
+            Bsdf::Diffuse(d) => d.sample(wi, uc, u),
+            Bsdf::Mixture(m) => m.sample(wi, uc, u),
+        }
+    }
+
+    #[inline]
+    fn has_smooth(&self) -> bool {
+        match self {
+            Bsdf::Diffuse(d) => d.has_smooth(),
+            Bsdf::Mixture(m) => m.has_smooth(),
+        }
+    }
+
+    #[inline]
+    fn dispersive(&self) -> bool {
+        match self {
+            Bsdf::Diffuse(d) => d.dispersive(),
+            Bsdf::Mixture(m) => m.dispersive(),
+        }
+    }
+}
+
+// Out of line, so that the integrator's copy of its per-hit code for mixtures stays small.
+impl<const N: usize> BsdfLike<N> for Mixture<'_, N> {
+    #[inline(never)]
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         let mut f = Spectrum::zero();
         for (lobe, w, flip) in &self.lobes[..] {
             f += lobe.eval(mirror(wi, *flip), mirror(wo, *flip)) * *w;
@@ -495,18 +653,16 @@ impl<const N: usize> Bsdf<'_, N> {
         f
     }
 
-    /// Hero density with which `sample` produces `wo` from its smooth lobes.
-    #[inline]
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    #[inline(never)]
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         self.lobes[..]
             .iter()
             .map(|(l, w, flip)| w * l.pdf(mirror(wi, *flip), mirror(wo, *flip)))
             .sum()
     }
 
-    /// Per-lane densities with which `sample` produces `wo` from its smooth lobes.
-    #[inline]
-    pub fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+    #[inline(never)]
+    fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         let mut p = Spectrum::zero();
         for (lobe, w, flip) in &self.lobes[..] {
             p += lobe.pdf_lanes(mirror(wi, *flip), mirror(wo, *flip)) * *w;
@@ -514,9 +670,8 @@ impl<const N: usize> Bsdf<'_, N> {
         p
     }
 
-    /// `uc` picks a lobe (by weight), `u` the direction within it.
-    #[inline]
-    pub fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+    #[inline(never)]
+    fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
         if self.lobes.len() == 1 {
             let (lobe, w, flip) = &self.lobes[0];
             let mut s = lobe.sample(mirror(wi, *flip), uc, u)?;
@@ -560,15 +715,13 @@ impl<const N: usize> Bsdf<'_, N> {
         })
     }
 
-    /// True if some lobe is not a Dirac lobe: emitter sampling can then contribute.
     #[inline]
-    pub fn has_smooth(&self) -> bool {
+    fn has_smooth(&self) -> bool {
         self.lobes[..].iter().any(|(l, _, _)| l.has_smooth())
     }
 
-    /// True if sampling depends on wavelength (the integrator then tracks per-lane densities).
     #[inline]
-    pub fn dispersive(&self) -> bool {
+    fn dispersive(&self) -> bool {
         self.lobes[..].iter().any(|(l, _, _)| l.dispersive())
     }
 }

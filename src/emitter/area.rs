@@ -55,7 +55,8 @@ impl AreaEmitter {
         }
     }
 
-    #[inline]
+    // Always inline: the path loop calls it at every hit (see `Emitter::sample_li`).
+    #[inline(always)]
     pub fn sample_li<const N: usize>(
         &self,
         si: &SurfaceInteraction,

@@ -57,7 +57,10 @@ impl Emitter {
     }
 
     /// Samples light arriving at `si`. None if the sample carries nothing (back side, zero pdf).
-    #[inline]
+    /// Area lights are sampled inline, the other kinds out of line: with every kind inline this
+    /// grew too large to inline into the path loop, and a scene with area lights only (the
+    /// Cornell box) paid for the call (docs/performance.md).
+    #[inline(always)]
     pub fn sample_li<const N: usize>(
         &self,
         si: &SurfaceInteraction,
@@ -67,6 +70,20 @@ impl Emitter {
     ) -> Option<EmitterSample<N>> {
         match self {
             Emitter::Area(a) => a.sample_li(si, u, wl, shapes),
+            _ => self.sample_li_other(si, u, wl),
+        }
+    }
+
+    /// `sample_li` for every kind but area lights.
+    #[inline(never)]
+    fn sample_li_other<const N: usize>(
+        &self,
+        si: &SurfaceInteraction,
+        u: Vec2,
+        wl: &Wavelengths<N>,
+    ) -> Option<EmitterSample<N>> {
+        match self {
+            Emitter::Area(_) => unreachable!("area lights are sampled by `sample_li`"),
             Emitter::Point {
                 position,
                 intensity,

@@ -78,13 +78,14 @@ fn render_lanes<const N: usize>(
 ) -> (Vec<f32>, RenderStats) {
     let (w, h) = (settings.width, settings.height);
     let slots = sensor.slots();
+    let dispersive = scene.materials.iter().any(|m| m.dispersive());
     let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
     let results: Vec<(Vec<f32>, TileCounts)> = tiles
         .par_iter()
         .map(|&(x0, y0)| {
-            let r = render_tile::<N>(scene, settings, sensor, x0, y0);
+            let r = render_tile::<N>(scene, settings, sensor, dispersive, x0, y0);
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
             progress(((x1 - x0) * (y1 - y0)) as u64 * settings.spp as u64);
             r
@@ -120,10 +121,13 @@ struct TileCounts {
     clamped: u64,
 }
 
+/// `dispersive`: some material of the scene samples directions by wavelength (see
+/// `path::radiance`).
 fn render_tile<const N: usize>(
     scene: &Scene,
     settings: &RenderSettings,
     sensor: &Sensor,
+    dispersive: bool,
     x0: u32,
     y0: u32,
 ) -> (Vec<f32>, TileCounts) {
@@ -137,6 +141,11 @@ fn render_tile<const N: usize>(
     let mut counts = TileCounts::default();
     let clamp = settings.path.clamp.unwrap_or(f32::INFINITY);
     let inv_spp = 1.0 / settings.spp as f64;
+    let radiance = if dispersive {
+        path::radiance::<N, true>
+    } else {
+        path::radiance::<N, false>
+    };
     for y in y0..y1 {
         for x in x0..x1 {
             acc.iter_mut().for_each(|a| *a = 0.0);
@@ -148,7 +157,7 @@ fn render_tile<const N: usize>(
                 let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                 let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
                 let ray = scene.camera.ray(film);
-                let mut l = path::radiance::<N>(
+                let mut l = radiance(
                     scene,
                     ray,
                     &wl,

@@ -5,7 +5,8 @@
 //! shows only directly visible emitters, 2 adds direct lighting, −1 is unbounded. Russian
 //! roulette starts once depth ≥ `rr_depth`: continue with q = min(max(β)·η², 0.95), β /= q.
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, BsdfLike};
+use crate::interaction::SurfaceInteraction;
 use crate::math::sampling::power_heuristic;
 use crate::ray::Ray;
 use crate::sampler::{PixelSampler, BOUNCE_DIMS, CAMERA_DIMS};
@@ -56,10 +57,10 @@ pub enum Dispersion {
 /// Radiance arriving along `ray` at the lanes of `wl`, each lane already weighted by the
 /// hero-wavelength estimator (the caller divides by N p(λ_j)).
 ///
-/// Spectral MIS bookkeeping: `r[k]` is the ratio of lane k's path density to the hero's. A
-/// lane's contribution is scaled by N / Σ r, and emitter-vs-BSDF MIS uses the lanes' average
-/// BSDF density weighted by r. Without dispersion r stays 1 and all of this is the identity.
-pub fn radiance<const N: usize>(
+/// `DISPERSIVE` is false for a scene without a dispersive material (decided once per render):
+/// the spectral-MIS bookkeeping of `Path` then compiles away, and such a scene pays nothing for
+/// it.
+pub fn radiance<const N: usize, const DISPERSIVE: bool>(
     scene: &Scene,
     mut ray: Ray,
     wl: &Wavelengths<N>,
@@ -67,9 +68,8 @@ pub fn radiance<const N: usize>(
     settings: &PathSettings,
     dispersion: Dispersion,
 ) -> Spectrum<N> {
-    let mut l = Spectrum::<N>::zero();
     if settings.max_depth == 0 {
-        return l;
+        return Spectrum::zero();
     }
     let max_depth = if settings.max_depth < 0 {
         u32::MAX
@@ -77,19 +77,22 @@ pub fn radiance<const N: usize>(
         settings.max_depth as u32
     };
     let n_emitters = scene.emitters.len();
-    let select_pdf = if n_emitters > 0 {
-        1.0 / n_emitters as f32
-    } else {
-        0.0
+    let mut path = Path {
+        l: Spectrum::zero(),
+        beta: Spectrum::one(),
+        r: Spectrum::one(),
+        lane_w: 1.0,
+        eta: 1.0,
+        prev_p: ray.o,
+        prev_pdf: 0.0,
+        prev_delta: true, // the camera ray: no competing strategy
+        select_pdf: if n_emitters > 0 {
+            1.0 / n_emitters as f32
+        } else {
+            0.0
+        },
+        dispersion,
     };
-    let mut beta = Spectrum::<N>::one();
-    let mut r = Spectrum::<N>::one();
-    let mut lane_w = 1.0f32;
-    let mut eta = 1.0f32;
-    // The previous vertex's BSDF sampling density, for MIS when the ray lands on an emitter.
-    let mut prev_p = ray.o;
-    let mut prev_pdf = 0.0f32;
-    let mut prev_delta = true; // the camera ray: no competing strategy
     let mut depth = 1u32;
     let mut bsdf = Bsdf::default();
     loop {
@@ -99,12 +102,12 @@ pub fn radiance<const N: usize>(
                 for &e in &scene.environment {
                     let em = &scene.emitters[e as usize];
                     let le = em.le_env(ray.d, wl);
-                    let w = if prev_delta {
+                    let w = if path.prev_delta {
                         1.0
                     } else {
-                        power_heuristic(prev_pdf, select_pdf * em.pdf_li_env(ray.d))
+                        power_heuristic(path.prev_pdf, path.select_pdf * em.pdf_li_env(ray.d))
                     };
-                    l += beta * le * (w * lane_w);
+                    path.l += path.beta * le * (w * path.lane_w);
                 }
             }
             break;
@@ -113,47 +116,110 @@ pub fn radiance<const N: usize>(
             let em = &scene.emitters[e as usize];
             let le = em.le_surface(&si, -ray.d, wl);
             if show && !le.is_zero() {
-                let w = if prev_delta {
+                let w = if path.prev_delta {
                     1.0
                 } else {
                     power_heuristic(
-                        prev_pdf,
-                        select_pdf * em.pdf_li_hit(prev_p, &si, &scene.shapes),
+                        path.prev_pdf,
+                        path.select_pdf * em.pdf_li_hit(path.prev_p, &si, &scene.shapes),
                     )
                 };
-                l += beta * le * (w * lane_w);
+                path.l += path.beta * le * (w * path.lane_w);
             }
         }
         if depth >= max_depth {
             break;
         }
         sampler.set_dimension(CAMERA_DIMS + (depth - 1).min(1 << 20) * BOUNCE_DIMS);
-        let wi = si.frame.to_local(-ray.d);
         let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
-        material.fill_bsdf(&si, wi, wl, &mut bsdf);
-        let dispersive = bsdf.dispersive();
+        material.fill_bsdf(&si, si.frame.to_local(-ray.d), wl, &mut bsdf);
+        // One copy of the scattering code for each kind of BSDF: for a plain diffuse material
+        // it is straight-line code without dispatch, which even leaves out the parts of the
+        // local directions that a Lambertian lobe never reads (all but cos θ).
+        let next = match &bsdf {
+            Bsdf::Diffuse(d) => path.scatter::<DISPERSIVE>(d, &si, -ray.d, scene, wl, sampler),
+            Bsdf::Mixture(m) => path.scatter::<DISPERSIVE>(m, &si, -ray.d, scene, wl, sampler),
+        };
+        let Some(next) = next else {
+            break;
+        };
+        ray = next;
+        if depth >= settings.rr_depth {
+            let q = (path.beta.max_value() * path.lane_w * path.eta * path.eta).min(0.95);
+            if sampler.next_1d() >= q {
+                break;
+            }
+            path.beta /= q;
+        }
+        depth += 1;
+    }
+    path.l
+}
+
+/// A path being traced: what it has gathered, and what its next vertex needs.
+///
+/// Spectral MIS bookkeeping: `r[k]` is the ratio of lane k's path density to the hero's. A
+/// lane's contribution is scaled by `lane_w` = N / Σ r, and emitter-vs-BSDF MIS uses the lanes'
+/// average BSDF density weighted by r. Without dispersion r stays 1 and all of this is the
+/// identity.
+struct Path<const N: usize> {
+    /// Radiance gathered so far.
+    l: Spectrum<N>,
+    /// Throughput.
+    beta: Spectrum<N>,
+    r: Spectrum<N>,
+    lane_w: f32,
+    /// Product of the relative indices of refraction crossed (for Russian roulette).
+    eta: f32,
+    // The previous vertex and its BSDF sampling density, for MIS when the ray lands on an
+    // emitter.
+    prev_p: Vec3,
+    prev_pdf: f32,
+    prev_delta: bool,
+    /// Probability of choosing each emitter for emitter sampling (uniform).
+    select_pdf: f32,
+    dispersion: Dispersion,
+}
+
+impl<const N: usize> Path<N> {
+    /// Emitter sampling and BSDF sampling at `si` with `bsdf`, for a path arriving from world
+    /// direction `wi_world`: adds the light sampled there and returns the path's next ray
+    /// (None if the path ends here).
+    #[inline(always)]
+    fn scatter<const DISPERSIVE: bool>(
+        &mut self,
+        bsdf: &impl BsdfLike<N>,
+        si: &SurfaceInteraction,
+        wi_world: Vec3,
+        scene: &Scene,
+        wl: &Wavelengths<N>,
+        sampler: &mut PixelSampler,
+    ) -> Option<Ray> {
+        let wi = si.frame.to_local(wi_world);
+        let dispersive = DISPERSIVE && bsdf.dispersive();
 
         // Emitter sampling.
+        let n_emitters = scene.emitters.len();
         let u_select = sampler.next_1d();
         let u_light = sampler.next_2d();
         if n_emitters > 0 && bsdf.has_smooth() {
             let e = ((u_select * n_emitters as f32) as usize).min(n_emitters - 1);
-            if let Some(es) = scene.emitters[e].sample_li(&si, u_light, wl, &scene.shapes) {
+            if let Some(es) = scene.emitters[e].sample_li(si, u_light, wl, &scene.shapes) {
                 let wo = si.frame.to_local(es.wi);
                 let f = bsdf.eval(wi, wo);
                 if !f.is_zero() && !scene.occluded(&es.shadow) {
-                    let light_pdf = select_pdf * es.pdf;
+                    let light_pdf = self.select_pdf * es.pdf;
                     let w = if es.delta {
                         1.0
                     } else {
                         let bsdf_pdf = if dispersive {
-                            (r * bsdf.pdf_lanes(wi, wo)).sum() / r.sum()
+                            (self.r * bsdf.pdf_lanes(wi, wo)).sum() / self.r.sum()
                         } else {
                             bsdf.pdf(wi, wo)
                         };
                         power_heuristic(light_pdf, bsdf_pdf)
                     };
-                    l += beta * f * es.radiance * (w / light_pdf * lane_w);
+                    self.l += self.beta * f * es.radiance * (w / light_pdf * self.lane_w);
                 }
             }
         }
@@ -161,43 +227,31 @@ pub fn radiance<const N: usize>(
         // BSDF sampling.
         let u_lobe = sampler.next_1d();
         let u_dir = sampler.next_2d();
-        let Some(bs) = bsdf.sample(wi, u_lobe, u_dir) else {
-            break;
-        };
-        beta *= bs.weight;
-        prev_pdf = bs.pdf;
+        let bs = bsdf.sample(wi, u_lobe, u_dir)?;
+        self.beta *= bs.weight;
+        self.prev_pdf = bs.pdf;
         if dispersive && N > 1 {
-            match dispersion {
+            match self.dispersion {
                 Dispersion::SpectralMis => {
-                    prev_pdf = (r * bs.pdf_lanes).sum() / r.sum();
-                    r = r * bs.pdf_lanes / bs.pdf;
+                    self.prev_pdf = (self.r * bs.pdf_lanes).sum() / self.r.sum();
+                    self.r = self.r * bs.pdf_lanes / bs.pdf;
                 }
                 Dispersion::TerminateSecondary => {
                     for k in 1..N {
-                        beta[k] = 0.0;
-                        r[k] = 0.0;
+                        self.beta[k] = 0.0;
+                        self.r[k] = 0.0;
                     }
                 }
             }
-            lane_w = N as f32 / r.sum();
+            self.lane_w = N as f32 / self.r.sum();
         }
-        eta *= bs.eta;
-        if beta.is_zero() {
-            break;
+        self.eta *= bs.eta;
+        if self.beta.is_zero() {
+            return None;
         }
         let wo_world: Vec3 = si.frame.to_world(bs.wo);
-        prev_p = si.p;
-        prev_delta = bs.delta;
-        ray = si.spawn(wo_world);
-
-        if depth >= settings.rr_depth {
-            let q = (beta.max_value() * lane_w * eta * eta).min(0.95);
-            if sampler.next_1d() >= q {
-                break;
-            }
-            beta /= q;
-        }
-        depth += 1;
+        self.prev_p = si.p;
+        self.prev_delta = bs.delta;
+        Some(si.spawn(wo_world))
     }
-    l
 }
