@@ -110,37 +110,23 @@ impl Bvh {
                 .traverse::<true>(ray, &mut t_max, |first, count, t_max| {
                     for p in &self.packets[first as usize..(first + count) as usize] {
                         let h = p.intersect(&shear4, *t_max);
-                        let mut lanes = h.mask;
-                        while lanes != 0 {
-                            let lane = lanes.trailing_zeros() as usize;
-                            lanes &= lanes - 1;
-                            if h.t[lane] < *t_max {
-                                *t_max = h.t[lane];
-                                best = Some(Hit {
-                                    prim: p.ids[lane],
-                                    hit: PrimHit {
-                                        t: h.t[lane],
-                                        b1: h.b1[lane],
-                                        b2: h.b2[lane],
-                                    },
-                                });
-                            }
+                        for lane in lanes(h.mask) {
+                            let hit = PrimHit {
+                                t: h.t[lane],
+                                b1: h.b1[lane],
+                                b2: h.b2[lane],
+                            };
+                            keep_closer(&mut best, t_max, p.ids[lane], hit);
                         }
-                        let mut lanes = h.redo;
-                        while lanes != 0 {
-                            let lane = lanes.trailing_zeros() as usize;
-                            lanes &= lanes - 1;
-                            if let Some(h) = triangle::intersect(&shear, *t_max, &p.vertices(lane))
+                        for lane in lanes(h.redo) {
+                            if let Some(r) = triangle::intersect(&shear, *t_max, &p.vertices(lane))
                             {
-                                *t_max = h.t;
-                                best = Some(Hit {
-                                    prim: p.ids[lane],
-                                    hit: PrimHit {
-                                        t: h.t,
-                                        b1: h.b1,
-                                        b2: h.b2,
-                                    },
-                                });
+                                let hit = PrimHit {
+                                    t: r.t,
+                                    b1: r.b1,
+                                    b2: r.b2,
+                                };
+                                keep_closer(&mut best, t_max, p.ids[lane], hit);
                             }
                         }
                     }
@@ -152,11 +138,7 @@ impl Bvh {
                 .traverse::<true>(ray, &mut t_max, |first, count, t_max| {
                     for i in first as usize..(first + count) as usize {
                         if let Some(h) = self.shape_geoms[i].intersect_analytic(ray, *t_max) {
-                            *t_max = h.t;
-                            best = Some(Hit {
-                                prim: self.shape_ids[i],
-                                hit: h,
-                            });
+                            keep_closer(&mut best, t_max, self.shape_ids[i], h);
                         }
                     }
                     Visit::Continue
@@ -169,28 +151,31 @@ impl Bvh {
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
         let mut t_max = ray.t_max;
+        let stop_if = |blocked: bool| {
+            if blocked {
+                Visit::Stop
+            } else {
+                Visit::Continue
+            }
+        };
         if !self.packets.is_empty() {
             let shear = RayShear::new(ray);
             let shear4 = RayShear4::new(&shear);
             let blocked =
                 self.triangles
                     .traverse::<false>(ray, &mut t_max, |first, count, t_max| {
-                        for p in &self.packets[first as usize..(first + count) as usize] {
-                            let h = p.intersect(&shear4, *t_max);
-                            if h.mask != 0 {
-                                return Visit::Stop;
-                            }
-                            let mut lanes = h.redo;
-                            while lanes != 0 {
-                                let lane = lanes.trailing_zeros() as usize;
-                                lanes &= lanes - 1;
-                                if triangle::intersect(&shear, *t_max, &p.vertices(lane)).is_some()
-                                {
-                                    return Visit::Stop;
-                                }
-                            }
-                        }
-                        Visit::Continue
+                        stop_if(
+                            self.packets[first as usize..(first + count) as usize]
+                                .iter()
+                                .any(|p| {
+                                    let h = p.intersect(&shear4, *t_max);
+                                    h.mask != 0
+                                        || lanes(h.redo).any(|lane| {
+                                            triangle::intersect(&shear, *t_max, &p.vertices(lane))
+                                                .is_some()
+                                        })
+                                }),
+                        )
                     });
             if blocked {
                 return true;
@@ -200,14 +185,32 @@ impl Bvh {
             && self
                 .shapes
                 .traverse::<false>(ray, &mut t_max, |first, count, t_max| {
-                    let blocked = self.shape_geoms[first as usize..(first + count) as usize]
-                        .iter()
-                        .any(|g| g.intersect_analytic(ray, *t_max).is_some());
-                    if blocked {
-                        Visit::Stop
-                    } else {
-                        Visit::Continue
-                    }
+                    stop_if(
+                        self.shape_geoms[first as usize..(first + count) as usize]
+                            .iter()
+                            .any(|g| g.intersect_analytic(ray, *t_max).is_some()),
+                    )
                 })
+    }
+}
+
+/// Lane indices of the set bits of a packet's hit mask, lowest first.
+#[inline(always)]
+fn lanes(mut mask: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (mask != 0).then(|| {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            lane
+        })
+    })
+}
+
+/// Makes `hit` the closest so far if it is nearer than `t_max`.
+#[inline(always)]
+fn keep_closer(best: &mut Option<Hit>, t_max: &mut f32, prim: u32, hit: PrimHit) {
+    if hit.t < *t_max {
+        *t_max = hit.t;
+        *best = Some(Hit { prim, hit });
     }
 }
