@@ -20,10 +20,11 @@
 //! - directional: the direction towards the light, for `direction` and for a `to_world`
 //!   look-at (1e-6), and the irradiance: the default (D65, 0.3% as above) and a constant (1e-6).
 
+mod common;
+
+use common::receiver;
 use glam::{Mat3, Vec2, Vec3};
 use prism::emitter::{Emitter, EnvMap};
-use prism::interaction::SurfaceInteraction;
-use prism::math::Frame;
 use prism::spectrum::Wavelengths;
 use prism::texture::RgbImage;
 use serde_json::Value;
@@ -54,20 +55,6 @@ fn emitter(ron: &str) -> Emitter {
     let text = format!("(film: (width: 2, height: 2), emitters: [{ron}], outputs: (bands: 0))");
     let job = prism::scene::load_str(&text, Path::new("tests/data/inline.ron")).unwrap();
     job.scene.emitters[0].clone()
-}
-
-/// A surface point at `p` facing +y.
-fn receiver(p: Vec3) -> SurfaceInteraction {
-    SurfaceInteraction {
-        p,
-        p_error: Vec3::ZERO,
-        ng: Vec3::Y,
-        frame: Frame::from_normal(Vec3::Y),
-        uv: Vec2::ZERO,
-        t: 1.0,
-        shape: 0,
-        prim: 0,
-    }
 }
 
 #[test]

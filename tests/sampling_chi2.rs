@@ -7,11 +7,10 @@
 
 mod common;
 
-use common::{alpha, chi2_test};
+use common::{alpha, chi2_test, receiver};
 use glam::{Vec2, Vec3};
 use prism::emitter::EnvMap;
 use prism::filter::{Filter, FilterConfig};
-use prism::interaction::SurfaceInteraction;
 use prism::math::rng::Pcg32;
 use prism::math::{sampling, Frame};
 use prism::spectrum::{WavelengthSampler, WavelengthSampling, Wavelengths};
@@ -268,20 +267,6 @@ fn wavelength_sampling() {
             &format!("wavelengths {kind:?} {lo}-{hi}"),
             chi2_test(&obs, &exp),
         );
-    }
-}
-
-/// A receiving point for emitter sampling: at `p`, facing +y.
-fn receiver(p: Vec3) -> SurfaceInteraction {
-    SurfaceInteraction {
-        p,
-        p_error: Vec3::ZERO,
-        ng: Vec3::Y,
-        frame: Frame::from_normal(Vec3::Y),
-        uv: Vec2::ZERO,
-        t: 1.0,
-        shape: u32::MAX,
-        prim: 0,
     }
 }
 

@@ -1,4 +1,5 @@
-//! Shared test statistics: Pearson's chi-square goodness-of-fit test and helpers.
+//! Shared test helpers: Pearson's chi-square goodness-of-fit test, and a receiving point for
+//! emitter sampling.
 #![allow(dead_code)]
 
 /// ln Γ(x) for x > 0 (Lanczos approximation, g = 7, n = 9; relative error < 1e-13).
@@ -117,4 +118,18 @@ fn chi2_tail_matches_tables() {
     assert!((chi2_sf(3.841, 1.0) - 0.05).abs() < 1e-4);
     assert!((chi2_sf(23.209, 10.0) - 0.01).abs() < 1e-4);
     assert!((chi2_sf(124.342, 100.0) - 0.05).abs() < 1e-4);
+}
+
+/// A receiving point for emitter sampling: at `p`, facing +y, on no shape.
+pub fn receiver(p: glam::Vec3) -> prism::interaction::SurfaceInteraction {
+    prism::interaction::SurfaceInteraction {
+        p,
+        p_error: glam::Vec3::ZERO,
+        ng: glam::Vec3::Y,
+        frame: prism::math::Frame::from_normal(glam::Vec3::Y),
+        uv: glam::Vec2::ZERO,
+        t: 1.0,
+        shape: u32::MAX,
+        prim: 0,
+    }
 }
