@@ -1,8 +1,8 @@
-//! prism's own acceleration structure: two 4-wide BVHs (`bvh4`), one over triangles stored four
+//! prism's own acceleration structure: two 8-wide BVHs (`bvh8`), one over triangles stored four
 //! to a SIMD packet (`Triangle4`), one over the analytic shapes (spheres, disks). A scene of
 //! triangles only never touches the second, and the reverse.
 
-use super::bvh4::{Tree, Visit, MAX_LEAF_ITEMS};
+use super::bvh8::{Tree, Visit, MAX_LEAF_ITEMS};
 use super::{Hit, Prim};
 use crate::ray::Ray;
 use crate::shape::triangle::{self, RayShear, RayShear4, Triangle4};
@@ -106,45 +106,92 @@ impl Bvh {
         if !self.packets.is_empty() {
             let shear = RayShear::new(ray);
             let shear4 = RayShear4::new(&shear);
-            self.triangles
-                .traverse::<true>(ray, &mut t_max, |first, count, t_max| {
-                    for p in &self.packets[first as usize..(first + count) as usize] {
-                        let h = p.intersect(&shear4, *t_max);
-                        for lane in lanes(h.mask) {
-                            let hit = PrimHit {
-                                t: h.t[lane],
-                                b1: h.b1[lane],
-                                b2: h.b2[lane],
-                            };
-                            keep_closer(&mut best, t_max, p.ids[lane], hit);
-                        }
-                        for lane in lanes(h.redo) {
-                            if let Some(r) = triangle::intersect(&shear, *t_max, &p.vertices(lane))
-                            {
-                                let hit = PrimHit {
-                                    t: r.t,
-                                    b1: r.b1,
-                                    b2: r.b2,
-                                };
-                                keep_closer(&mut best, t_max, p.ids[lane], hit);
-                            }
-                        }
-                    }
+            self.triangles.traverse::<true>(
+                ray,
+                &mut t_max,
+                #[inline(always)]
+                |first, count, t_max| {
+                    self.closest_triangle(first, count, &shear, &shear4, t_max, &mut best);
                     Visit::Continue
-                });
+                },
+            );
         }
         if !self.shape_geoms.is_empty() {
-            self.shapes
-                .traverse::<true>(ray, &mut t_max, |first, count, t_max| {
+            self.shapes.traverse::<true>(
+                ray,
+                &mut t_max,
+                #[inline(always)]
+                |first, count, t_max| {
                     for i in first as usize..(first + count) as usize {
                         if let Some(h) = self.shape_geoms[i].intersect_analytic(ray, *t_max) {
                             keep_closer(&mut best, t_max, self.shape_ids[i], h);
                         }
                     }
                     Visit::Continue
-                });
+                },
+            );
         }
         best
+    }
+
+    /// The nearest hit among a leaf's triangle packets, kept in `best` if nearer than `t_max`.
+    /// Always inlined: it runs inside the traversal loop (its AVX2 build included), where a call
+    /// per leaf cost 10-20% of the rays per second.
+    #[inline(always)]
+    fn closest_triangle(
+        &self,
+        first: u32,
+        count: u32,
+        shear: &RayShear,
+        shear4: &RayShear4,
+        t_max: &mut f32,
+        best: &mut Option<Hit>,
+    ) {
+        for p in &self.packets[first as usize..(first + count) as usize] {
+            let h = p.intersect(shear4, *t_max);
+            for lane in lanes(h.mask) {
+                let hit = PrimHit {
+                    t: h.t[lane],
+                    b1: h.b1[lane],
+                    b2: h.b2[lane],
+                };
+                keep_closer(best, t_max, p.ids[lane], hit);
+            }
+            for lane in lanes(h.redo) {
+                if let Some(r) = triangle::intersect(shear, *t_max, &p.vertices(lane)) {
+                    let hit = PrimHit {
+                        t: r.t,
+                        b1: r.b1,
+                        b2: r.b2,
+                    };
+                    keep_closer(best, t_max, p.ids[lane], hit);
+                }
+            }
+        }
+    }
+
+    /// Whether any of a leaf's triangle packets blocks the ray before `t_max` (inlined as
+    /// `closest_triangle` is).
+    #[inline(always)]
+    fn any_triangle(
+        &self,
+        first: u32,
+        count: u32,
+        shear: &RayShear,
+        shear4: &RayShear4,
+        t_max: f32,
+    ) -> bool {
+        // A plain loop: `Iterator::any` was not inlined into the traversal.
+        for p in &self.packets[first as usize..(first + count) as usize] {
+            let h = p.intersect(shear4, t_max);
+            if h.mask != 0
+                || lanes(h.redo)
+                    .any(|lane| triangle::intersect(shear, t_max, &p.vertices(lane)).is_some())
+            {
+                return true;
+            }
+        }
+        false
     }
 
     /// True if any primitive lies on the ray within (0, t_max); stops at the first one found.
@@ -161,36 +208,31 @@ impl Bvh {
         if !self.packets.is_empty() {
             let shear = RayShear::new(ray);
             let shear4 = RayShear4::new(&shear);
-            let blocked =
-                self.triangles
-                    .traverse::<false>(ray, &mut t_max, |first, count, t_max| {
-                        stop_if(
-                            self.packets[first as usize..(first + count) as usize]
-                                .iter()
-                                .any(|p| {
-                                    let h = p.intersect(&shear4, *t_max);
-                                    h.mask != 0
-                                        || lanes(h.redo).any(|lane| {
-                                            triangle::intersect(&shear, *t_max, &p.vertices(lane))
-                                                .is_some()
-                                        })
-                                }),
-                        )
-                    });
+            let blocked = self.triangles.traverse::<false>(
+                ray,
+                &mut t_max,
+                #[inline(always)]
+                |first, count, t_max| {
+                    stop_if(self.any_triangle(first, count, &shear, &shear4, *t_max))
+                },
+            );
             if blocked {
                 return true;
             }
         }
         !self.shape_geoms.is_empty()
-            && self
-                .shapes
-                .traverse::<false>(ray, &mut t_max, |first, count, t_max| {
+            && self.shapes.traverse::<false>(
+                ray,
+                &mut t_max,
+                #[inline(always)]
+                |first, count, t_max| {
                     stop_if(
                         self.shape_geoms[first as usize..(first + count) as usize]
                             .iter()
                             .any(|g| g.intersect_analytic(ray, *t_max).is_some()),
                     )
-                })
+                },
+            )
     }
 }
 

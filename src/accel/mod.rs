@@ -1,12 +1,12 @@
 //! Ray queries over the scene's primitives: closest hit and occlusion.
 //!
-//! One small interface; the backend is chosen at build time of the scene. `Bvh` (prism's 4-wide
+//! One small interface; the backend is chosen at build time of the scene. `Bvh` (prism's 8-wide
 //! SIMD BVH, built with obvhs) renders by default; `Embree` (Intel Embree 3, cargo feature `embree`) is the
 //! alternative; `BruteForce` tests every primitive and exists to check the fast ones.
 
 mod brute;
 mod bvh;
-mod bvh4;
+mod bvh8;
 #[cfg(feature = "embree")]
 mod embree;
 

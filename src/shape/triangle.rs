@@ -13,7 +13,7 @@ pub struct RayShear {
     o: Vec3,
     /// Axis indices (kx, ky, kz); always < 3, and masked with `& 3` on use so that indexing a
     /// 4-element array needs no bounds check.
-    k: [u8; 3],
+    k: [u32; 3],
     sx: f32,
     sy: f32,
     sz: f32,
@@ -42,7 +42,7 @@ impl RayShear {
         let sz = 1.0 / ray.d[kz];
         Self {
             o: ray.o,
-            k: [kx as u8, ky as u8, kz as u8],
+            k: [kx as u32, ky as u32, kz as u32],
             sx: ray.d[kx] * sz,
             sy: ray.d[ky] * sz,
             sz,
