@@ -8,6 +8,7 @@
 //! - `Uniform`: p(λ) = 1 / (hi − lo). With it the rotation is Wilkie's λ_j = lo + ((λ_h − lo) + jΛ/N) mod Λ.
 
 use serde::{Deserialize, Serialize};
+use wide::f32x4;
 
 /// How wavelengths are drawn for each camera path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
@@ -114,21 +115,36 @@ impl WavelengthSampler {
     pub fn sample<const N: usize>(&self, u: f32) -> Wavelengths<N> {
         let mut lambda = [0.0; N];
         let mut pdf = [0.0; N];
-        for j in 0..N {
-            let mut uj = u + j as f32 / N as f32;
+        let lane_u = |j: usize| {
+            let uj = u + j as f32 / N as f32;
             if uj >= 1.0 {
-                uj -= 1.0;
+                uj - 1.0
+            } else {
+                uj
             }
-            match self.kind {
-                WavelengthSampling::Uniform => {
-                    lambda[j] = self.sample_one(uj);
+        };
+        match self.kind {
+            WavelengthSampling::Uniform => {
+                for j in 0..N {
+                    lambda[j] = self.sample_one(lane_u(j));
                     pdf[j] = 1.0 / (self.hi - self.lo);
                 }
-                WavelengthSampling::Visible => {
-                    // With t = tanh(k (λ − 538)), cosh⁻² = 1 − t², so the pdf needs no cosh.
-                    let t = self.t_lo + uj * self.t_span;
-                    lambda[j] = (VIS_CENTER + t.atanh() * (1.0 / VIS_K)).clamp(self.lo, self.hi);
-                    pdf[j] = VIS_K * (1.0 - t * t) / self.t_span;
+            }
+            WavelengthSampling::Visible => {
+                // With t = tanh(k (λ − 538)), cosh⁻² = 1 − t², so the pdf needs no cosh. The
+                // inverse, atanh(t) = ½ ln((1 + t) / (1 − t)), runs four lanes at a time: libm's
+                // scalar atanh per lane was 5% of a Cornell box render.
+                for j0 in (0..N).step_by(4) {
+                    let mut t = [0.0f32; 4];
+                    for (k, t) in t.iter_mut().enumerate().take(N - j0) {
+                        *t = self.t_lo + lane_u(j0 + k) * self.t_span;
+                    }
+                    let tv = f32x4::from(t);
+                    let atanh = ((f32x4::ONE + tv) / (f32x4::ONE - tv)).ln() * 0.5;
+                    for (k, a) in atanh.to_array().into_iter().enumerate().take(N - j0) {
+                        lambda[j0 + k] = (VIS_CENTER + a * (1.0 / VIS_K)).clamp(self.lo, self.hi);
+                        pdf[j0 + k] = VIS_K * (1.0 - t[k] * t[k]) / self.t_span;
+                    }
                 }
             }
         }
@@ -139,6 +155,36 @@ impl WavelengthSampler {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The SIMD inverse CDF of `sample` against the scalar one of `sample_one` (libm's atanh):
+    /// within 1e-3 nm over ranges from narrow to 300-1100 nm (whose ends are where 1 − t loses
+    /// digits, in both). Far below any spectral feature; the pdf comes from t in both.
+    #[test]
+    fn simd_inverse_cdf_matches_scalar() {
+        for (lo, hi) in [
+            (360.0, 830.0),
+            (300.0, 1100.0),
+            (500.0, 510.0),
+            (380.0, 780.0),
+        ] {
+            let s = WavelengthSampler::new(WavelengthSampling::Visible, lo, hi);
+            for i in 0..4000 {
+                let u = i as f32 / 4000.0;
+                let w = s.sample::<8>(u);
+                for j in 0..8 {
+                    let uj = (u + j as f32 / 8.0) % 1.0;
+                    let want = s.sample_one(uj);
+                    assert!(
+                        (w.lambda[j] - want).abs() < 1e-3,
+                        "{lo}-{hi} nm, u {uj}: {} vs {want}",
+                        w.lambda[j]
+                    );
+                }
+                let w1 = s.sample::<1>(u);
+                assert!((w1.lambda[0] - s.sample_one(u)).abs() < 1e-3);
+            }
+        }
+    }
 
     #[test]
     fn visible_matches_mitsuba_constants_over_360_830() {
