@@ -80,6 +80,7 @@ pub struct Tree {
     /// Largest number of entries a traversal can have on its stack (7 per level).
     stack_needed: usize,
     /// Whether this CPU runs the AVX2 node test (checked once, at build).
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     avx2: bool,
     /// Bounds of everything in the tree (inverted for an empty tree).
     pub lo: Vec3,
