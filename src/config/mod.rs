@@ -112,7 +112,8 @@ impl Default for FilmConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SamplerConfig {
-    /// `Independent` (default) or `Sobol` (Owen-scrambled, at most 65536 spp).
+    /// `Sobol` (default: padded Owen-scrambled Sobol, at most 65536 spp, best with powers of
+    /// two) or `Independent` (PCG32).
     pub kind: SamplerKind,
     /// Samples per pixel. Default 64.
     pub spp: u32,
@@ -123,7 +124,7 @@ pub struct SamplerConfig {
 impl Default for SamplerConfig {
     fn default() -> Self {
         Self {
-            kind: SamplerKind::Independent,
+            kind: SamplerKind::Sobol,
             spp: 64,
             seed: 0,
         }

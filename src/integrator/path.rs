@@ -200,8 +200,9 @@ impl<const N: usize> Path<N> {
 
         // Emitter sampling.
         let n_emitters = scene.emitters.len();
-        let u_select = sampler.next_1d();
+        // Point first: it takes the group's best-stratified pair (see `sampler`).
         let u_light = sampler.next_2d();
+        let u_select = sampler.next_1d();
         if n_emitters > 0 && bsdf.has_smooth() {
             let e = ((u_select * n_emitters as f32) as usize).min(n_emitters - 1);
             if let Some(es) = scene.emitters[e].sample_li(si, u_light, wl, &scene.shapes) {

@@ -57,12 +57,6 @@ pub fn hash3(a: u64, b: u64, c: u64) -> u64 {
     mix64(mix64(mix64(a ^ 0x9e3779b97f4a7c15).wrapping_add(b)).wrapping_add(c))
 }
 
-/// Uniform [0,1) from a hash (for dimensions a low-discrepancy sequence does not cover).
-#[inline]
-pub fn hash_to_f32(h: u64) -> f32 {
-    ((h >> 40) as u32) as f32 * (1.0 / (1u32 << 24) as f32)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

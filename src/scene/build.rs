@@ -154,7 +154,10 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
             s.spp <= SOBOL_MAX_SPP,
             file,
             "sampler.spp",
-            format!("the Sobol sampler supports at most {SOBOL_MAX_SPP} spp"),
+            format!(
+                "the Sobol sampler (the default) supports at most {SOBOL_MAX_SPP} spp; for more, \
+                 set `sampler: (kind: Independent)` or pass `--sampler independent`"
+            ),
         )?;
     }
     check(

@@ -152,7 +152,7 @@ def mitsuba_render(
         cmd += ["--save-exr", save_exr]
     code, out, err, rss, wall = measured(cmd, env=mitsuba_env())
     try:
-        res = json.loads(out.strip().splitlines()[-1])
+        res = worker_json(out)
     except (IndexError, json.JSONDecodeError):
         return {"error": (err.strip() or out.strip())[-400:], "cmd": shlex.join(map(str, cmd))}
     best = min(res["render_s"])
@@ -176,6 +176,13 @@ def machine_info() -> dict:
     return info
 
 
+def worker_json(out: str) -> dict:
+    """The JSON line a worker prints last. Mitsuba's coloured log output can leave an ANSI reset
+    sequence in front of it on the same line."""
+    line = out.strip().splitlines()[-1]
+    return json.loads(line[line.index("{"):] if "{" in line else line)
+
+
 def mitsuba_ladder(
     python: str,
     export_dir: pathlib.Path,
@@ -185,15 +192,19 @@ def mitsuba_ladder(
     save_dir: pathlib.Path,
     seed: int = 1,
     warmup: bool = True,
+    sampler: str | None = None,
 ) -> dict:
     """One timed Mitsuba render per spp of `spps`, images in save_dir/spp_N.exr; render_s is
-    keyed by str(spp). `warmup` False skips the untimed warm-ups (for references)."""
+    keyed by str(spp). `warmup` False skips the untimed warm-ups (for references); `sampler`
+    replaces the export's sampler plugin."""
     cmd = [python, ROOT / "tools/bench/mitsuba_worker.py", export_dir, "--variant", variant,
            "--ladder", ",".join(map(str, spps)), "--save-dir", save_dir, "--threads", str(threads), "--seed", str(seed)]
     if not warmup:
         cmd.append("--no-warmup")
+    if sampler:
+        cmd += ["--sampler", sampler]
     code, out, err, _, _ = measured(cmd, env=mitsuba_env())
     try:
-        return json.loads(out.strip().splitlines()[-1])
+        return worker_json(out)
     except (IndexError, json.JSONDecodeError):
         return {"error": (err.strip() or out.strip())[-400:] or f"exit code {code}"}

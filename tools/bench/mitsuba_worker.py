@@ -43,6 +43,7 @@ def main() -> None:
     ap.add_argument("--threads", type=int)
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--sampler", help="Mitsuba sampler plugin instead of the export's (e.g. ldsampler)")
     ap.add_argument("--save-exr", type=pathlib.Path, help="write the last render's RGB here")
     args = ap.parse_args()
 
@@ -57,7 +58,10 @@ def main() -> None:
     if not ladder and not args.spp:
         ap.error("give --spp or --ladder")
     t0 = time.perf_counter()
-    scene = mi.load_dict(convert(load(args.export_dir / "scene.json"), spp=args.spp or ladder[0], seed=args.seed))
+    scene_dict = convert(load(args.export_dir / "scene.json"), spp=args.spp or ladder[0], seed=args.seed)
+    if args.sampler:
+        scene_dict["sensor"]["sampler"]["type"] = args.sampler
+    scene = mi.load_dict(scene_dict)
     dr.sync_thread()
     load_s = time.perf_counter() - t0
     if args.threads:
@@ -68,15 +72,18 @@ def main() -> None:
         dr.set_thread_count(args.threads)
     if ladder:
         args.save_dir.mkdir(parents=True, exist_ok=True)
-        times = {}
+        times, actual = {}, {}
         for spp in ladder:
             if not args.no_warmup:
                 np.asarray(mi.render(scene, spp=spp, seed=args.seed + 1000))  # warm-up (LLVM compiles)
             t = time.perf_counter()
             img = np.asarray(mi.render(scene, spp=spp, seed=args.seed))
             times[spp] = time.perf_counter() - t
+            # Some samplers round the count (Mitsuba's ldsampler to a power of four).
+            actual[spp] = scene.sensors()[0].sampler().sample_count()
             mi.Bitmap(img[..., :3]).write(str(args.save_dir / f"spp_{spp}.exr"))
-        print(json.dumps({"variant": args.variant, "threads": dr.thread_count(), "load_s": load_s, "render_s": times}))
+        print(json.dumps({"variant": args.variant, "threads": dr.thread_count(), "load_s": load_s, "render_s": times,
+                          "spp_rendered": actual}))
         return
 
     np.asarray(mi.render(scene, spp=args.spp, seed=args.seed + 1000))  # warm-up
