@@ -196,15 +196,17 @@ impl Curve {
             Curve::Constant(v) => Spectrum::splat(*v),
             Curve::Dense(d) => Spectrum::from_fn(|i| d.eval(wl.lambda[i])),
             Curve::Rgb { sigmoid, scale } => {
-                Spectrum::from_fn(|i| scale * sigmoid.eval(wl.lambda[i]))
+                let s = sigmoid.eval_lanes(&wl.lambda);
+                Spectrum::from_fn(|i| scale * s[i])
             }
             Curve::RgbIlluminant {
                 sigmoid,
                 scale,
                 illuminant,
-            } => Spectrum::from_fn(|i| {
-                scale * sigmoid.eval(wl.lambda[i]) * illuminant.eval(wl.lambda[i])
-            }),
+            } => {
+                let s = sigmoid.eval_lanes(&wl.lambda);
+                Spectrum::from_fn(|i| scale * s[i] * illuminant.eval(wl.lambda[i]))
+            }
             _ => Spectrum::from_fn(|i| self.eval_one(wl.lambda[i])),
         }
     }

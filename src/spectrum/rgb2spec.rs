@@ -42,6 +42,29 @@ impl Sigmoid {
         0.5 + 0.5 * x / (1.0 + x * x).sqrt()
     }
 
+    /// The values at every lane, four lanes at a time: the same IEEE operations as
+    /// [`Sigmoid::eval`], so the same bits (tested), with one SIMD square root and division
+    /// per four lanes instead of four scalar ones (those were 8% of a Cornell render).
+    #[inline]
+    pub fn eval_lanes<const N: usize>(&self, lambda: &[f32; N]) -> [f32; N] {
+        use wide::f32x4;
+        let [c0, c1, c2] = self.c.map(f32x4::splat);
+        let (half, one) = (f32x4::splat(0.5), f32x4::splat(1.0));
+        let (lo, hi) = (f32x4::splat(-1e18), f32x4::splat(1e18));
+        let mut out = [0.0; N];
+        let mut chunks = out.chunks_exact_mut(4);
+        for (o, l) in (&mut chunks).zip(lambda.chunks_exact(4)) {
+            let l = f32x4::from([l[0], l[1], l[2], l[3]]);
+            let x = ((c0 * l + c1) * l + c2).max(lo).min(hi);
+            o.copy_from_slice(&(half + half * x / (one + x * x).sqrt()).to_array());
+        }
+        let done = N - chunks.into_remainder().len();
+        for k in done..N {
+            out[k] = self.eval(lambda[k]);
+        }
+        out
+    }
+
     /// The coefficients (c0, c1, c2) of the polynomial in λ (nm); c2 = ∓∞ for black/white.
     pub fn coefficients(&self) -> [f32; 3] {
         self.c
@@ -105,6 +128,29 @@ pub fn fetch(rgb: [f32; 3]) -> Sigmoid {
 mod tests {
     use super::super::rgb2spec_fit::{mat_vec, FitData, XYZ_TO_SRGB};
     use super::*;
+
+    #[test]
+    fn simd_lanes_match_scalar_bit_for_bit() {
+        let mut sigmoids = vec![Sigmoid::BLACK, Sigmoid::WHITE];
+        for r in [0.0f32, 0.05, 0.3, 0.7, 1.0] {
+            for g in [0.0f32, 0.2, 0.9] {
+                for b in [0.0f32, 0.5, 1.0] {
+                    sigmoids.push(fetch([r, g, b]));
+                }
+            }
+        }
+        let lambda: [f32; 8] = [300.0, 360.5, 412.25, 500.0, 555.5, 700.125, 830.0, 1100.0];
+        for s in &sigmoids {
+            let scalar = lambda.map(|l| s.eval(l));
+            assert_eq!(
+                s.eval_lanes(&lambda).map(f32::to_bits),
+                scalar.map(f32::to_bits)
+            );
+            let five: [f32; 5] = lambda[..5].try_into().unwrap();
+            assert_eq!(s.eval_lanes(&five), five.map(|l| s.eval(l)));
+            assert_eq!(s.eval_lanes(&[lambda[3]]), [s.eval(lambda[3])]);
+        }
+    }
 
     fn data() -> FitData {
         FitData::from_texts(
