@@ -5,16 +5,17 @@ its sampler and wavelength variants) and Mitsuba 3, on the benchmark scenes.
     tools/.venv/bin/python tools/bench/error_time.py --quick    # smoke check: out/bench/quick/
 
 Curves (one render per spp of a doubling ladder, render time only, scene loading excluded):
-- prism, BVH, at its defaults (padded Owen-scrambled Sobol sampler, 4 wavelengths per path,
+- prism, BVH, at its defaults (padded Owen-scrambled Sobol sampler, 8 wavelengths per path,
   visible-importance wavelength sampling): `prism`;
 - prism variants, one change each: `--sampler independent` (Mitsuba's default sampler),
-  `--wavelengths 1`, `--wavelengths 8`, `--wavelength-sampling uniform`;
+  `--wavelengths 4` (Mitsuba's count), `--wavelengths 1`, `--wavelength-sampling uniform`; and
+  with both of Mitsuba's settings (independent, 4 wavelengths): `prism as Mitsuba`;
 - Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` on the exported scene, each with its
   default `independent` sampler and with its low-discrepancy `ldsampler` (each spp after a
   warm-up render, so the LLVM variant's kernel compilation is not counted).
 
 relMSE = mean over pixels and R, G, B of (x − ref)² / (ref² + 0.01). Each renderer is measured
-against its own high-spp reference (prism's: Sobol sampler; Mitsuba's: llvm_ad_spectral), so
+against its own high-spp reference (prism's: its defaults; Mitsuba's: llvm_ad_spectral), so
 the curves show variance against time, not the small bias between the two renderers (that is
 validated elsewhere); the relMSE between the two references is printed and stored as a check.
 Equal-error speedups: each curve gets a least-squares power law log relMSE = a + b log t; the
@@ -43,13 +44,15 @@ from common import ROOT, SCENES, log  # noqa: E402
 # (max spp of the ladder, reference spp) per scene.
 FULL = {"cornell": (256, 4096), "materials": (128, 2048), "mesh": (64, 1024)}
 QUICK = {"cornell": (4, 32), "materials": (4, 32), "mesh": (2, 16)}
-# The sampler is always named: scenes/cornell.ron pins Mitsuba's independent sampler.
+# Sampler and wavelengths are always named: scenes/cornell.ron pins Mitsuba's (independent, 4).
+DEFAULTS = ["--sampler", "sobol", "--wavelengths", "8"]
 PRISM_VARIANTS = {
-    "prism": ["--sampler", "sobol"],
-    "prism independent": ["--sampler", "independent"],
+    "prism": DEFAULTS,
+    "prism independent": ["--sampler", "independent", "--wavelengths", "8"],
+    "prism 4 wavelengths": ["--sampler", "sobol", "--wavelengths", "4"],
     "prism 1 wavelength": ["--sampler", "sobol", "--wavelengths", "1"],
-    "prism 8 wavelengths": ["--sampler", "sobol", "--wavelengths", "8"],
-    "prism uniform wavelengths": ["--sampler", "sobol", "--wavelength-sampling", "uniform"],
+    "prism uniform wavelengths": [*DEFAULTS, "--wavelength-sampling", "uniform"],
+    "prism as Mitsuba": ["--sampler", "independent", "--wavelengths", "4"],
 }
 MITSUBA_SAMPLERS = ("independent", "ldsampler")
 
@@ -94,7 +97,7 @@ def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_sp
     spps = ladder(max_spp)
     rows: list[dict] = []
     ref_exr = tmp / f"{name}_ref_prism.exr"
-    r = common.prism_render(binary, scene, ref_spp, threads, ref_exr, ["--sampler", "sobol", "--seed", "12345"])
+    r = common.prism_render(binary, scene, ref_spp, threads, ref_exr, [*DEFAULTS, "--seed", "12345"])
     if "error" in r:
         raise RuntimeError(r["error"])
     ref_prism = read_rgb(ref_exr)
