@@ -214,7 +214,7 @@ def main() -> None:
         "renders a view-factor scene at scales 10⁻⁴ to 10⁵ against its analytic value, a closed "
         "box with the camera inside (leak ≤ 10⁻⁴ of the outside radiance; measured ≤ 5·10⁻⁵, from "
         "rays leaving within rounding error of an edge), the 1/spp slope of the independent sampler "
-        "(−1 ± 0.1; measured −0.998, Sobol −1.19), an index-matched sphere's invisibility, and the "
+        "(−1 ± 0.1; measured −0.997, Sobol −1.25), an index-matched sphere's invisibility, and the "
         "clamp's sign of bias.",
     ]
     report.write_text("\n".join(lines) + "\n")

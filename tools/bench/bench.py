@@ -123,7 +123,8 @@ def main() -> None:
     embree = not args.no_embree and common.embree_available()
     if not embree and not args.no_embree:
         log("NOTICE: Embree 3 is not installed (Debian: libembree-dev): prism's Embree rows are skipped")
-    binary = common.build_prism(embree)
+    binary = common.build_prism()
+    binary_embree = common.build_prism_embree() if embree else None
     common.ensure_mesh(python)
 
     results = {
@@ -143,7 +144,7 @@ def main() -> None:
                 log(f"== {name}: {spp} spp, {t} thread(s)")
                 rows = {"prism_bvh": prism_best(binary, scene, spp, t, args.repeats, tmp, ["--accel", "bvh", *MATCHED])}
                 if embree:
-                    rows["prism_embree"] = prism_best(binary, scene, spp, t, args.repeats, tmp, ["--accel", "embree", *MATCHED])
+                    rows["prism_embree"] = prism_best(binary_embree, scene, spp, t, args.repeats, tmp, ["--accel", "embree", *MATCHED])
                 for v in common.MITSUBA_VARIANTS:
                     rows[f"mitsuba_{v}"] = common.mitsuba_render(python, export, v, spp, t, args.repeats)
                 per_threads[str(t)] = rows

@@ -203,8 +203,7 @@ def main() -> None:
     table = QUICK if args.quick else FULL
     scenes = args.scenes.split(",")
     python = sys.executable
-    # The same build as bench.py (so the two scripts do not rebuild each other's binary).
-    binary = common.build_prism(common.embree_available())
+    binary = common.build_prism()
     common.ensure_mesh(python)
     rows: list[dict] = []
     cross: dict[str, float | None] = {}

@@ -6,7 +6,8 @@
 #
 #   tools/bench/profile.sh [SCENE.ron] [SPP] [ACCEL]      # defaults: scenes/cornell.ron 1 bvh
 #
-# Uses target/release/prism as built (build it first, with --features embree for ACCEL=embree).
+# Uses $PRISM, default target/release/prism, as built (for ACCEL=embree, a build with
+# --features embree, e.g. PRISM=target/embree/release/prism).
 # Writes out/bench/profile/NAME_ACCEL.callgrind (open with kcachegrind or callgrind_annotate) and
 # NAME_ACCEL.txt: the top functions by self instructions, and the share of ray queries (BVH or
 # Embree traversal and primitive tests).
@@ -20,7 +21,7 @@ out=out/bench/profile
 mkdir -p "$out"
 cg="$out/${name}_${accel}.callgrind"
 cmd=(valgrind --tool=callgrind --callgrind-out-file="$cg" '--toggle-collect=prism::integrator::render*'
-     target/release/prism render "$scene" -o "$out/${name}.exr" --spp "$spp" --threads 1 -q --accel "$accel")
+     "${PRISM:-target/release/prism}" render "$scene" -o "$out/${name}.exr" --spp "$spp" --threads 1 -q --accel "$accel")
 echo "\$ ${cmd[*]}"
 "${cmd[@]}" 2>&1 | grep -E "rendered|refs" || true
 report="$out/${name}_${accel}.txt"

@@ -34,9 +34,10 @@ echo "== 3. traversal"
 echo "\$ cargo bench --bench traversal ${features[*]} -- ${quick[*]}"
 cargo bench --quiet --bench traversal "${features[@]}" -- "${quick[@]}" | tee "$out/traversal.md"
 echo "== 4. profile"
-cargo build --release --quiet "${features[@]}"
+cargo build --release --quiet
 tools/bench/profile.sh scenes/cornell.ron 1 bvh | tee "$out/profile_cornell_bvh.txt"
 if [ ${#features[@]} -gt 0 ]; then
-    tools/bench/profile.sh scenes/cornell.ron 1 embree | tee "$out/profile_cornell_embree.txt"
+    cargo build --release --quiet "${features[@]}" --target-dir target/embree
+    PRISM=target/embree/release/prism tools/bench/profile.sh scenes/cornell.ron 1 embree | tee "$out/profile_cornell_embree.txt"
 fi
 echo "== done: results in $out/"
