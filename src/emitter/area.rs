@@ -10,6 +10,17 @@ use crate::shape::{AreaSample, Shape};
 use crate::spectrum::{Curve, Wavelengths};
 use glam::{Vec2, Vec3};
 
+/// A point sampled on an area light, seen from a receiving point.
+#[derive(Clone, Copy, Debug)]
+pub struct AreaLightSample {
+    /// Unit direction from the receiving point towards the light.
+    pub wi: Vec3,
+    /// The shadow ray to test visibility with.
+    pub shadow: crate::ray::Ray,
+    /// Solid-angle density of `wi`.
+    pub pdf: f32,
+}
+
 #[derive(Clone, Debug)]
 pub struct AreaEmitter {
     pub shape: u32,
@@ -55,7 +66,7 @@ impl AreaEmitter {
         }
     }
 
-    // Always inline: the path loop calls it at every hit (see `Emitter::sample_li`).
+    /// `sample_point` with the radiance evaluated.
     #[inline(always)]
     pub fn sample_li<const N: usize>(
         &self,
@@ -64,6 +75,27 @@ impl AreaEmitter {
         wl: &Wavelengths<N>,
         shapes: &[Shape],
     ) -> Option<EmitterSample<N>> {
+        let s = self.sample_point(si, u, shapes)?;
+        Some(EmitterSample {
+            wi: s.wi,
+            shadow: s.shadow,
+            radiance: self.radiance.eval(wl),
+            pdf: s.pdf,
+            delta: false,
+        })
+    }
+
+    /// A point on the light as seen from `si`: direction, shadow ray and solid-angle density,
+    /// without the radiance, which is the same everywhere on the light. The path loop
+    /// evaluates that once per path, and only for samples that reach `si` (see
+    /// `path::LeMemo`). Always inline: the path loop calls it at every hit.
+    #[inline(always)]
+    pub fn sample_point(
+        &self,
+        si: &SurfaceInteraction,
+        u: Vec2,
+        shapes: &[Shape],
+    ) -> Option<AreaLightSample> {
         let shape = &shapes[self.shape as usize];
         let (s, pdf) = match shape {
             Shape::Sphere(sph) => sph.sample_from(si.p, u),
@@ -92,12 +124,10 @@ impl AreaEmitter {
         if s.n.dot(-wi) <= 0.0 {
             return None;
         }
-        Some(EmitterSample {
+        Some(AreaLightSample {
             wi,
             shadow: si.spawn_to(s.p, s.p_error, Some(s.n)),
-            radiance: self.radiance.eval(wl),
             pdf,
-            delta: false,
         })
     }
 

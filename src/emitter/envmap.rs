@@ -167,14 +167,14 @@ impl EnvMap {
             return Spectrum::zero();
         }
         let f = f * self.scale;
+        // All lanes at once, texel by texel (SIMD sigmoids and D65 lookups, the same bits as one
+        // lane at a time): per lane this was 4 scalar square roots and divisions and a table
+        // lookup, 12% of the materials benchmark.
+        let s: [[f32; N]; 4] = idx.map(|k| self.sigmoids[k].eval_lanes(&wl.lambda));
+        let d65 = self.d65.eval_lanes(&wl.lambda);
         Spectrum::from_fn(|l| {
-            let lambda = wl.lambda[l];
-            let s: f32 = idx
-                .iter()
-                .zip(wt)
-                .map(|(&k, t)| t * self.sigmoids[k].eval(lambda))
-                .sum();
-            s * f * self.d65.eval(lambda)
+            let s = wt[0] * s[0][l] + wt[1] * s[1][l] + wt[2] * s[2][l] + wt[3] * s[3][l];
+            s * f * d65[l]
         })
     }
 

@@ -12,7 +12,7 @@ use crate::math::sampling::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
 use crate::ray::Ray;
 use crate::shape::Shape;
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
-pub use area::AreaEmitter;
+pub use area::{AreaEmitter, AreaLightSample};
 pub use envmap::EnvMap;
 use glam::{Vec2, Vec3};
 pub use spot::Spot;
@@ -76,7 +76,7 @@ impl Emitter {
 
     /// `sample_li` for every kind but area lights.
     #[inline(never)]
-    fn sample_li_other<const N: usize>(
+    pub(crate) fn sample_li_other<const N: usize>(
         &self,
         si: &SurfaceInteraction,
         u: Vec2,
@@ -168,9 +168,16 @@ impl Emitter {
         wl: &Wavelengths<N>,
     ) -> Spectrum<N> {
         match self {
-            Emitter::Area(a) if si.ng.dot(w) > 0.0 => a.radiance.eval(wl),
+            Emitter::Area(a) if self.emits_towards(si, w) => a.radiance.eval(wl),
             _ => Spectrum::zero(),
         }
+    }
+
+    /// True if this is an area emitter whose surface at `si` emits towards `w` (its front side):
+    /// `le_surface` is then its uniform radiance, else zero.
+    #[inline]
+    pub fn emits_towards(&self, si: &SurfaceInteraction, w: Vec3) -> bool {
+        matches!(self, Emitter::Area(_)) && si.ng.dot(w) > 0.0
     }
 
     /// Radiance arriving from infinity along direction `d` (environment emitters).

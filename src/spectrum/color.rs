@@ -23,7 +23,8 @@ impl Cmf {
             return [0.0; 3];
         }
         let x = lambda - self.start;
-        let i = (x as usize).min(self.xyz.len() - 2);
+        // Through i32: x is in range here, and f32 → i32 is a cheaper conversion than → usize.
+        let i = (x as i32 as usize).min(self.xyz.len() - 2);
         let t = x - i as f32;
         let (a, b) = (self.xyz[i], self.xyz[i + 1]);
         [
