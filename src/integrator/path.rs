@@ -120,7 +120,7 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool>(
         if let Some(e) = scene.shape_emitter[si.shape as usize] {
             let em = &scene.emitters[e as usize];
             let le = if show && em.emits_towards(&si, -ray.d) {
-                path.le_memo.get(e as u32, em, wl)
+                path.le_memo.get(e, em, wl)
             } else {
                 Spectrum::zero()
             };
