@@ -170,10 +170,14 @@ impl EnvMap {
         // All lanes at once, texel by texel (SIMD sigmoids and D65 lookups, the same bits as one
         // lane at a time): per lane this was 4 scalar square roots and divisions and a table
         // lookup, 12% of the materials benchmark.
-        let s: [[f32; N]; 4] = idx.map(|k| self.sigmoids[k].eval_lanes(&wl.lambda));
+        // (Four calls rather than `idx.map`: the array map kept its closure out of line.)
+        let s0 = self.sigmoids[idx[0]].eval_lanes(&wl.lambda);
+        let s1 = self.sigmoids[idx[1]].eval_lanes(&wl.lambda);
+        let s2 = self.sigmoids[idx[2]].eval_lanes(&wl.lambda);
+        let s3 = self.sigmoids[idx[3]].eval_lanes(&wl.lambda);
         let d65 = self.d65.eval_lanes(&wl.lambda);
         Spectrum::from_fn(|l| {
-            let s = wt[0] * s[0][l] + wt[1] * s[1][l] + wt[2] * s[2][l] + wt[3] * s[3][l];
+            let s = wt[0] * s0[l] + wt[1] * s1[l] + wt[2] * s2[l] + wt[3] * s3[l];
             s * f * d65[l]
         })
     }

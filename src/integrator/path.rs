@@ -191,6 +191,13 @@ struct Path<const N: usize> {
     le_memo: LeMemo<N>,
 }
 
+/// Where an emitter sample's radiance comes from (see `Path::scatter`).
+enum Le<'a, const N: usize> {
+    Value(Spectrum<N>),
+    Area,
+    Envmap(&'a crate::emitter::EnvMap),
+}
+
 /// An area light's radiance at the path's lanes, kept for the light the path last sampled or
 /// hit. It is the same all over the light, and the lanes stay fixed along the path, so a path
 /// in a one-light scene (the Cornell box) evaluates it once instead of at every bounce (the RGB
@@ -242,23 +249,28 @@ impl<const N: usize> Path<N> {
         if n_emitters > 0 && bsdf.has_smooth() {
             let e = ((u_select * n_emitters as f32) as usize).min(n_emitters - 1);
             let em = &scene.emitters[e];
-            // An area light's radiance is looked up only for a sample that counts (unoccluded,
-            // f ≠ 0), through the path's memo; other kinds come with theirs.
+            // Area lights and environment maps are sampled for a direction first; their
+            // radiance is looked up only for a sample that counts (unoccluded, f ≠ 0), an area
+            // light's through the path's memo. Other kinds come with theirs.
             let sample = match em {
                 Emitter::Area(a) => a
                     .sample_point(si, u_light, &scene.shapes)
-                    .map(|s| (s.wi, s.shadow, s.pdf, false, None)),
+                    .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area)),
+                Emitter::Envmap(m) => m
+                    .sample(u_light)
+                    .map(|(wi, pdf)| (wi, si.spawn(wi), pdf, false, Le::Envmap(m))),
                 _ => em
                     .sample_li_other(si, u_light, wl)
-                    .map(|s| (s.wi, s.shadow, s.pdf, s.delta, Some(s.radiance))),
+                    .map(|s| (s.wi, s.shadow, s.pdf, s.delta, Le::Value(s.radiance))),
             };
             if let Some((wi_light, shadow, pdf, delta, radiance)) = sample {
                 let wo = si.frame.to_local(wi_light);
                 let f = bsdf.eval(wi, wo);
                 if !f.is_zero() && !scene.occluded(&shadow) {
                     let le = match radiance {
-                        Some(le) => le,
-                        None => self.le_memo.get(e as u32, em, wl),
+                        Le::Value(le) => le,
+                        Le::Area => self.le_memo.get(e as u32, em, wl),
+                        Le::Envmap(m) => m.eval(wi_light, wl),
                     };
                     let light_pdf = self.select_pdf * pdf;
                     let w = if delta {
