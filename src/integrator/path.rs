@@ -319,3 +319,53 @@ impl<const N: usize> Path<N> {
         Some(si.spawn(wo_world))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::emitter::AreaEmitter;
+    use crate::shape::{Shape, Sphere};
+    use crate::spectrum::{Curve, WavelengthSampler, WavelengthSampling};
+
+    /// The memo is keyed by emitter: two lights of different spectra, asked for in turn, each
+    /// get their own radiance, evaluated at the path's lanes.
+    #[test]
+    fn le_memo_keeps_each_light_apart() {
+        let sphere = Shape::Sphere(Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+            flip: false,
+        });
+        let red = Emitter::Area(AreaEmitter::new(
+            0,
+            &sphere,
+            Curve::rgb_illuminant([4.0, 0.1, 0.1]),
+        ));
+        let blue = Emitter::Area(AreaEmitter::new(
+            1,
+            &sphere,
+            Curve::rgb_illuminant([0.1, 0.1, 4.0]),
+        ));
+        let wl: Wavelengths<8> =
+            WavelengthSampler::new(WavelengthSampling::Visible, 360.0, 830.0).sample(0.3);
+        let want = |em: &Emitter| match em {
+            Emitter::Area(a) => a.radiance.eval(&wl),
+            _ => unreachable!(),
+        };
+        let mut memo = LeMemo {
+            emitter: LeMemo::<8>::NONE,
+            le: Spectrum::zero(),
+        };
+        for (e, em) in [
+            (0, &red),
+            (0, &red),
+            (1, &blue),
+            (0, &red),
+            (1, &blue),
+            (1, &blue),
+        ] {
+            assert_eq!(memo.get(e, em, &wl), want(em), "emitter {e}");
+        }
+        assert_ne!(want(&red), want(&blue));
+    }
+}
