@@ -66,8 +66,10 @@ fn step_away(v: f32, dir: f32) -> f32 {
     } else {
         bits.wrapping_add(step)
     };
-    // NaN (|bits| > ∞), and ±∞ moving outward, stay put; so does everything when dir is ±0.
-    let keep = dir_bits & ABS == 0 || (bits & ABS) + (step > 0) as i32 > INF;
+    // NaN (|bits| > ∞), and ±∞ moving outward, stay put; so does everything when dir is ±0
+    // or NaN (neither above nor below zero).
+    let dir_abs = dir_bits & ABS;
+    let keep = dir_abs == 0 || dir_abs > INF || (bits & ABS) + (step > 0) as i32 > INF;
     f32::from_bits(if keep { bits } else { stepped } as u32)
 }
 
@@ -127,7 +129,16 @@ mod tests {
         let mut rng = crate::math::rng::Pcg32::new(3, 5);
         let randoms = (0..20000).map(|_| f32::from_bits(rng.next_u32()));
         for v in special.into_iter().chain(randoms) {
-            for dir in [1.0f32, -1.0, 0.0, -0.0, 1e-30, -1e-30, f32::INFINITY] {
+            for dir in [
+                1.0f32,
+                -1.0,
+                0.0,
+                -0.0,
+                1e-30,
+                -1e-30,
+                f32::INFINITY,
+                f32::NAN,
+            ] {
                 let want = if dir > 0.0 {
                     next_float_up(v)
                 } else if dir < 0.0 {
