@@ -57,9 +57,10 @@ impl Emitter {
     }
 
     /// Samples light arriving at `si`. None if the sample carries nothing (back side, zero pdf).
-    /// Area lights are sampled inline, the other kinds out of line: with every kind inline this
-    /// grew too large to inline into the path loop, and a scene with area lights only (the
-    /// Cornell box) paid for the call (docs/performance.md).
+    /// The path loop does not call this: it samples area lights and environment maps for a
+    /// direction first and looks their radiance up only for unoccluded samples
+    /// (`AreaEmitter::sample_point`, `EnvMap::sample`), and calls `sample_li_other` for the
+    /// rest, out of line (with every kind inline the loop grew too large to inline).
     #[inline(always)]
     pub fn sample_li<const N: usize>(
         &self,
@@ -159,22 +160,9 @@ impl Emitter {
         }
     }
 
-    /// Radiance leaving an area emitter's surface at `si` towards `w` (world, away from it).
-    #[inline]
-    pub fn le_surface<const N: usize>(
-        &self,
-        si: &SurfaceInteraction,
-        w: Vec3,
-        wl: &Wavelengths<N>,
-    ) -> Spectrum<N> {
-        match self {
-            Emitter::Area(a) if self.emits_towards(si, w) => a.radiance.eval(wl),
-            _ => Spectrum::zero(),
-        }
-    }
-
-    /// True if this is an area emitter whose surface at `si` emits towards `w` (its front side):
-    /// `le_surface` is then its uniform radiance, else zero.
+    /// True if this is an area emitter whose surface at `si` emits towards `w` (world, away from
+    /// the surface: its front side); the radiance leaving it is then the light's uniform
+    /// `radiance`, else none.
     #[inline]
     pub fn emits_towards(&self, si: &SurfaceInteraction, w: Vec3) -> bool {
         matches!(self, Emitter::Area(_)) && si.ng.dot(w) > 0.0
