@@ -34,7 +34,8 @@ impl Ray {
 }
 
 /// Moves `p` (with error bound `p_error`) off its surface of normal `n`, to the side `w` points to.
-#[inline]
+/// Always inline: three calls per bounce, and out of line it cost 7% of a Cornell render.
+#[inline(always)]
 pub fn offset_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
     let dist = n.abs().dot(p_error);
     let offset = if w.dot(n) < 0.0 { -n * dist } else { n * dist };
@@ -81,7 +82,8 @@ pub fn spawn(p: Vec3, p_error: Vec3, n: Vec3, d: Vec3) -> Ray {
 
 /// A shadow ray from a surface point to a target point (itself offset from its surface if it
 /// has one, `target_n` = None for a point in space). Returns the ray and the distance.
-#[inline]
+/// Always inline, like `offset_origin`: once per bounce.
+#[inline(always)]
 pub fn spawn_to(
     p: Vec3,
     p_error: Vec3,
