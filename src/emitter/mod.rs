@@ -160,14 +160,6 @@ impl Emitter {
         }
     }
 
-    /// True if this is an area emitter whose surface at `si` emits towards `w` (world, away from
-    /// the surface: its front side); the radiance leaving it is then the light's uniform
-    /// `radiance`, else none.
-    #[inline]
-    pub fn emits_towards(&self, si: &SurfaceInteraction, w: Vec3) -> bool {
-        matches!(self, Emitter::Area(_)) && si.ng.dot(w) > 0.0
-    }
-
     /// Radiance arriving from infinity along direction `d` (environment emitters).
     #[inline]
     pub fn le_env<const N: usize>(&self, d: Vec3, wl: &Wavelengths<N>) -> Spectrum<N> {

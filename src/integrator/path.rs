@@ -6,7 +6,7 @@
 //! roulette starts once depth ≥ `rr_depth`: continue with q = min(max(β)·η², 0.95), β /= q.
 
 use crate::bsdf::{Bsdf, BsdfLike};
-use crate::emitter::Emitter;
+use crate::emitter::{AreaEmitter, Emitter};
 use crate::interaction::SurfaceInteraction;
 use crate::math::sampling::power_heuristic;
 use crate::ray::Ray;
@@ -119,10 +119,10 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool>(
         };
         if let Some(e) = scene.shape_emitter[si.shape as usize] {
             let em = &scene.emitters[e as usize];
-            let le = if show && em.emits_towards(&si, -ray.d) {
-                path.le_memo.get(e, em, wl)
-            } else {
-                Spectrum::zero()
+            // Area lights emit from their front side only.
+            let le = match em {
+                Emitter::Area(a) if show && si.ng.dot(-ray.d) > 0.0 => path.le_memo.get(e, a, wl),
+                _ => Spectrum::zero(),
             };
             if !le.is_zero() {
                 let w = if path.prev_delta {
@@ -194,7 +194,7 @@ struct Path<const N: usize> {
 /// Where an emitter sample's radiance comes from (see `Path::scatter`).
 enum Le<'a, const N: usize> {
     Value(Spectrum<N>),
-    Area,
+    Area(&'a AreaEmitter),
     Envmap(&'a crate::emitter::EnvMap),
 }
 
@@ -210,14 +210,11 @@ struct LeMemo<const N: usize> {
 impl<const N: usize> LeMemo<N> {
     const NONE: u32 = u32::MAX;
 
-    /// The radiance of area emitter `em` (index `e`); zero for any other kind.
+    /// The radiance of area emitter `a` (emitter index `e`).
     #[inline(always)]
-    fn get(&mut self, e: u32, em: &Emitter, wl: &Wavelengths<N>) -> Spectrum<N> {
+    fn get(&mut self, e: u32, a: &AreaEmitter, wl: &Wavelengths<N>) -> Spectrum<N> {
         if self.emitter != e {
-            self.le = match em {
-                Emitter::Area(a) => a.radiance.eval(wl),
-                _ => Spectrum::zero(),
-            };
+            self.le = a.radiance.eval(wl);
             self.emitter = e;
         }
         self.le
@@ -255,7 +252,7 @@ impl<const N: usize> Path<N> {
             let sample = match em {
                 Emitter::Area(a) => a
                     .sample_point(si, u_light, &scene.shapes)
-                    .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area)),
+                    .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area(a))),
                 Emitter::Envmap(m) => m
                     .sample(u_light)
                     .map(|(wi, pdf)| (wi, si.spawn(wi), pdf, false, Le::Envmap(m))),
@@ -269,7 +266,7 @@ impl<const N: usize> Path<N> {
                 if !f.is_zero() && !scene.occluded(&shadow) {
                     let le = match radiance {
                         Le::Value(le) => le,
-                        Le::Area => self.le_memo.get(e as u32, em, wl),
+                        Le::Area(a) => self.le_memo.get(e as u32, a, wl),
                         Le::Envmap(m) => m.eval(wi_light, wl),
                     };
                     let light_pdf = self.select_pdf * pdf;
@@ -323,7 +320,6 @@ impl<const N: usize> Path<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::emitter::AreaEmitter;
     use crate::shape::{Shape, Sphere};
     use crate::spectrum::{Curve, WavelengthSampler, WavelengthSampling};
 
@@ -336,22 +332,11 @@ mod tests {
             radius: 1.0,
             flip: false,
         });
-        let red = Emitter::Area(AreaEmitter::new(
-            0,
-            &sphere,
-            Curve::rgb_illuminant([4.0, 0.1, 0.1]),
-        ));
-        let blue = Emitter::Area(AreaEmitter::new(
-            1,
-            &sphere,
-            Curve::rgb_illuminant([0.1, 0.1, 4.0]),
-        ));
+        let red = AreaEmitter::new(0, &sphere, Curve::rgb_illuminant([4.0, 0.1, 0.1]));
+        let blue = AreaEmitter::new(1, &sphere, Curve::rgb_illuminant([0.1, 0.1, 4.0]));
         let wl: Wavelengths<8> =
             WavelengthSampler::new(WavelengthSampling::Visible, 360.0, 830.0).sample(0.3);
-        let want = |em: &Emitter| match em {
-            Emitter::Area(a) => a.radiance.eval(&wl),
-            _ => unreachable!(),
-        };
+        let want = |a: &AreaEmitter| a.radiance.eval(&wl);
         let mut memo = LeMemo {
             emitter: LeMemo::<8>::NONE,
             le: Spectrum::zero(),
