@@ -71,6 +71,10 @@ pub struct RenderArgs {
     /// Wavelength sampling (overrides the scene's spectral.sampling).
     #[arg(long, value_enum)]
     pub wavelength_sampling: Option<crate::spectrum::WavelengthSampling>,
+    /// Caustic light tracing (overrides the scene's integrator.caustics; `on` keeps the
+    /// scene's settings or takes the defaults). Unbiased either way.
+    #[arg(long, value_enum)]
+    pub caustics: Option<Switch>,
     /// Opt-in firefly clamp: cut each sample's radiance to at most this (overrides the
     /// scene's integrator.clamp). Biased: for previews, never for ground truth.
     #[arg(long)]
@@ -84,6 +88,13 @@ pub struct RenderArgs {
     /// No progress output (the summary line is still printed).
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// A feature switched on or off from the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Switch {
+    On,
+    Off,
 }
 
 /// Runs the CLI; returns the process exit code.
@@ -132,6 +143,13 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if args.clamp.is_some() {
             cfg.integrator.clamp = args.clamp;
+        }
+        match args.caustics {
+            Some(Switch::On) => {
+                cfg.integrator.caustics = Some(cfg.integrator.caustics.unwrap_or_default())
+            }
+            Some(Switch::Off) => cfg.integrator.caustics = None,
+            None => {}
         }
     })?;
     let load_s = t_load.elapsed().as_secs_f64();
@@ -219,11 +237,15 @@ fn metadata(
         (
             "prism:integrator".into(),
             format!(
-                "path max_depth {} rr_depth {} hide_emitters {} clamp {}",
+                "path max_depth {} rr_depth {} hide_emitters {} clamp {} caustics {}",
                 s.path.max_depth,
                 s.path.rr_depth,
                 s.path.hide_emitters,
-                s.path.clamp.map_or("off".into(), |c| c.to_string())
+                s.path.clamp.map_or("off".into(), |c| c.to_string()),
+                s.path.caustics.map_or("off".into(), |c| format!(
+                    "(light_paths {}, bright_ratio {}, max_roughness {}, area_lights {})",
+                    c.light_paths, c.bright_ratio, c.max_roughness, c.area_lights
+                ))
             ),
         ),
         (

@@ -11,7 +11,8 @@
 //!   "camera": {"to_world", "fov_x_deg", "near_clip", "far_clip"},
 //!   "film": {"width", "height", "filter": {"type": "box", "radius"} | {"type": "gaussian", "stddev"}},
 //!   "sampler": {"type": "independent" | "sobol", "spp", "seed"},
-//!   "integrator": {"type": "path", "max_depth", "rr_depth", "hide_emitters", "clamp": null | radiance},
+//!   "integrator": {"type": "path", "max_depth", "rr_depth", "hide_emitters", "clamp": null | radiance,
+//!                  "caustics": null | {"light_paths", "bright_ratio", "max_roughness", "area_lights"}},
 //!   "spectral": {"wavelengths", "range": [lo, hi], "sampling", "dispersion"},
 //!   "outputs": {"rgb", "xyz", "bands": null | {"count", "range"}},
 //!   "materials": [material...], "shapes": [shape...], "emitters": [emitter...] }
@@ -89,7 +90,7 @@ pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
             Filter::Tabulated { radius, .. } => json!({"type": "gaussian", "stddev": radius / 4.0}),
         }},
         "sampler": {"type": format!("{:?}", s.sampler).to_lowercase(), "spp": s.spp, "seed": s.seed},
-        "integrator": {"type": "path", "max_depth": s.path.max_depth, "rr_depth": s.path.rr_depth, "hide_emitters": s.path.hide_emitters, "clamp": s.path.clamp},
+        "integrator": {"type": "path", "max_depth": s.path.max_depth, "rr_depth": s.path.rr_depth, "hide_emitters": s.path.hide_emitters, "clamp": s.path.clamp, "caustics": s.path.caustics},
         "spectral": {"wavelengths": s.lanes, "range": [lo, hi], "sampling": format!("{:?}", s.wavelengths.kind()).to_lowercase(), "dispersion": format!("{:?}", s.dispersion)},
         "outputs": {"rgb": job.channels.rgb, "xyz": job.channels.xyz, "bands": job.channels.bands.map(|b| json!({"count": b.count, "range": [b.lo, b.hi]}))},
         "materials": scene.materials.iter().map(|m| ctx.material(m)).collect::<Vec<_>>(),

@@ -77,9 +77,81 @@ impl Filter {
         }
     }
 
+    /// Density of `sample`'s offsets at `offset` (pixels⁻²; integrates to 1 over the square of
+    /// half-width `radius`): the weight of a film point in a pixel's value, for splatting.
+    #[inline]
+    pub fn eval(&self, offset: Vec2) -> f32 {
+        let r = self.radius();
+        if offset.x.abs() > r || offset.y.abs() > r {
+            return 0.0;
+        }
+        match self {
+            Filter::Box { radius } => 0.25 / (radius * radius),
+            Filter::Tabulated { radius, dist } => {
+                let x = dist.pdf_continuous(((offset.x / radius + 1.0) * 0.5).min(1.0 - 1e-7));
+                let y = dist.pdf_continuous(((offset.y / radius + 1.0) * 0.5).min(1.0 - 1e-7));
+                x * y / (4.0 * radius * radius)
+            }
+        }
+    }
+
     pub fn radius(&self) -> f32 {
         match self {
             Filter::Box { radius } | Filter::Tabulated { radius, .. } => *radius,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::rng::Pcg32;
+
+    /// `eval` is the density of `sample`: it integrates to 1 (midpoint rule on a 200² grid:
+    /// 1e-3), and a 10 × 10 histogram of 200,000 samples matches it (chi-square, 99 dof; the
+    /// 1e-4 quantile is below 160), for the box and the Gaussian.
+    #[test]
+    fn eval_is_the_density_of_sample() {
+        for cfg in [
+            FilterConfig::Box { radius: 0.5 },
+            FilterConfig::Gaussian { stddev: 0.5 },
+        ] {
+            let f = Filter::new(&cfg);
+            let r = f.radius();
+            let g = 200;
+            let cell = 2.0 * r / g as f32;
+            let mut integral = 0.0f64;
+            let mut expected = vec![0.0f64; 100];
+            for i in 0..g {
+                for j in 0..g {
+                    let o = Vec2::new(-r + (i as f32 + 0.5) * cell, -r + (j as f32 + 0.5) * cell);
+                    let m = f.eval(o) as f64 * (cell * cell) as f64;
+                    integral += m;
+                    expected[(i * 10 / g) * 10 + j * 10 / g] += m;
+                }
+            }
+            assert!(
+                (integral - 1.0).abs() < 1e-3,
+                "{cfg:?}: ∫ eval = {integral}"
+            );
+            assert_eq!(f.eval(Vec2::new(r * 1.01, 0.0)), 0.0);
+            let n = 200_000;
+            let mut counts = vec![0.0f64; 100];
+            let mut rng = Pcg32::new(8, 3);
+            for _ in 0..n {
+                let o = f.sample(Vec2::new(rng.next_f32(), rng.next_f32()));
+                let (i, j) = (
+                    ((o.x + r) / (2.0 * r) * 10.0) as usize,
+                    ((o.y + r) / (2.0 * r) * 10.0) as usize,
+                );
+                counts[i.min(9) * 10 + j.min(9)] += 1.0;
+            }
+            let chi2: f64 = counts
+                .iter()
+                .zip(&expected)
+                .map(|(c, e)| (c - e * n as f64).powi(2) / (e * n as f64))
+                .sum();
+            assert!(chi2 < 160.0, "{cfg:?}: χ² = {chi2:.1}");
         }
     }
 }

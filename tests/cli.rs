@@ -801,3 +801,88 @@ fn plastic_iors() {
         &["materials.\"grey\".int_ior", "polypropylene"],
     );
 }
+
+#[test]
+fn bad_caustics_settings() {
+    let with = |c: &str| {
+        GOOD.replace(
+            "sampler:",
+            &format!("integrator: (caustics: Some({c})), sampler:"),
+        )
+    };
+    assert_input_error(
+        "caustics light_paths",
+        &with("(light_paths: 0)"),
+        &[],
+        &["integrator.caustics.light_paths", "positive"],
+    );
+    assert_input_error(
+        "caustics bright_ratio",
+        &with("(bright_ratio: NaN)"),
+        &[],
+        &["integrator.caustics.bright_ratio"],
+    );
+    assert_input_error(
+        "caustics max_roughness",
+        &with("(max_roughness: 2)"),
+        &[],
+        &["integrator.caustics.max_roughness", "[0, 1]"],
+    );
+    assert_input_error(
+        "caustics unknown field",
+        &with("(light_path: 1)"),
+        &[],
+        &["light_path", "light_paths"],
+    );
+}
+
+/// `--caustics on` turns light tracing on with the defaults (the EXR's metadata says so);
+/// `--caustics off` turns a scene's off.
+#[test]
+fn caustics_flag_overrides_the_scene() {
+    let dir = workdir("caustics-flag");
+    let scene = dir.join("scene.ron");
+    std::fs::write(
+        &scene,
+        GOOD.replace(
+            "sampler:",
+            "integrator: (caustics: Some((light_paths: 2))), sampler:",
+        ),
+    )
+    .unwrap();
+    for (flag, want) in [
+        (None, "light_paths 2"),
+        (Some("off"), "caustics off"),
+        (Some("on"), "light_paths 2"),
+    ] {
+        let out = dir.join("out.exr");
+        let mut cmd = prism();
+        cmd.arg("render").arg(&scene).arg("-o").arg(&out).arg("-q");
+        if let Some(f) = flag {
+            cmd.args(["--caustics", f]);
+        }
+        let o = cmd.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let exr = std::fs::read(&out).unwrap();
+        let text = String::from_utf8_lossy(&exr);
+        assert!(
+            text.contains(want),
+            "--caustics {flag:?}: metadata lacks `{want}`"
+        );
+    }
+    let plain = GOOD.replace("sampler:", "integrator: (max_depth: 3), sampler:");
+    std::fs::write(&scene, plain).unwrap();
+    let out = dir.join("out.exr");
+    let o = prism()
+        .args(["render", "-q", "--caustics", "on", "-o"])
+        .arg(&out)
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&std::fs::read(&out).unwrap()).into_owned();
+    assert!(
+        text.contains("light_paths 0.1"),
+        "--caustics on: defaults not taken"
+    );
+}

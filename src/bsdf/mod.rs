@@ -245,6 +245,24 @@ impl Material {
         }
     }
 
+    /// True if some lobe of the material can focus light into caustics: a Dirac lobe (a
+    /// mirror, a smooth interface or coating, a mask's pass-through) or a microfacet conductor
+    /// or dielectric (glossy if smooth enough). The objects caustic light tracing aims at.
+    pub fn focuses_light(&self) -> bool {
+        match self {
+            Material::Twosided { front, back } => front.focuses_light() || back.focuses_light(),
+            Material::Blend { a, b, .. } => a.focuses_light() || b.focuses_light(),
+            Material::Mask { .. }
+            | Material::Conductor(_)
+            | Material::RoughConductor { .. }
+            | Material::Dielectric { .. }
+            | Material::RoughDielectric { .. }
+            | Material::ThinDielectric { .. }
+            | Material::Plastic { .. } => true,
+            Material::Diffuse { .. } | Material::RoughPlastic { .. } => false,
+        }
+    }
+
     /// The BSDF at `si` for a path arriving from local direction `wi`.
     #[inline]
     pub fn bsdf<'a, const N: usize>(
@@ -513,6 +531,17 @@ impl<'a, const N: usize> Lobe<'a, N> {
         }
     }
 
+    /// True if the lobe is a Dirac lobe or a microfacet lobe no rougher than `max_alpha`.
+    #[inline]
+    fn glossy(&self, max_alpha: f32) -> bool {
+        match self {
+            Lobe::Conductor(_) | Lobe::Dielectric(_) | Lobe::ThinDielectric(_) | Lobe::Null => true,
+            Lobe::RoughConductor(b) => b.distr.alpha_u.max(b.distr.alpha_v) <= max_alpha,
+            Lobe::RoughDielectric(b) => b.dist.alpha_u.max(b.dist.alpha_v) <= max_alpha,
+            Lobe::Diffuse(_) | Lobe::Plastic(_) | Lobe::RoughPlastic(_) => false,
+        }
+    }
+
     /// True if the lobe's sampling depends on wavelength.
     #[inline]
     fn dispersive(&self) -> bool {
@@ -558,6 +587,9 @@ pub trait BsdfLike<const N: usize> {
     fn has_smooth(&self) -> bool;
     /// True if sampling depends on wavelength (the integrator then tracks per-lane densities).
     fn dispersive(&self) -> bool;
+    /// True if every lobe is a Dirac lobe or a microfacet lobe no rougher than `max_alpha`
+    /// (what caustic light tracing follows).
+    fn glossy(&self, max_alpha: f32) -> bool;
 }
 
 impl<const N: usize> BsdfLike<N> for Diffuse<N> {
@@ -588,6 +620,11 @@ impl<const N: usize> BsdfLike<N> for Diffuse<N> {
 
     #[inline]
     fn dispersive(&self) -> bool {
+        false
+    }
+
+    #[inline]
+    fn glossy(&self, _max_alpha: f32) -> bool {
         false
     }
 }
@@ -638,6 +675,14 @@ impl<const N: usize> BsdfLike<N> for Bsdf<'_, N> {
         match self {
             Bsdf::Diffuse(d) => d.dispersive(),
             Bsdf::Mixture(m) => m.dispersive(),
+        }
+    }
+
+    #[inline]
+    fn glossy(&self, max_alpha: f32) -> bool {
+        match self {
+            Bsdf::Diffuse(d) => d.glossy(max_alpha),
+            Bsdf::Mixture(m) => m.glossy(max_alpha),
         }
     }
 }
@@ -723,5 +768,10 @@ impl<const N: usize> BsdfLike<N> for Mixture<'_, N> {
     #[inline]
     fn dispersive(&self) -> bool {
         self.lobes[..].iter().any(|(l, _, _)| l.dispersive())
+    }
+
+    #[inline]
+    fn glossy(&self, max_alpha: f32) -> bool {
+        !self.lobes.is_empty() && self.lobes[..].iter().all(|(l, _, _)| l.glossy(max_alpha))
     }
 }

@@ -47,8 +47,9 @@ impl AreaEmitter {
         }
     }
 
-    /// A uniform point on the shape (area measure) – the sphere case is handled by the caller.
-    fn sample_area(&self, u: Vec2, shape: &Shape) -> AreaSample {
+    /// A uniform point on the shape (area measure; for emitter sampling the caller handles the
+    /// sphere case by its cone).
+    pub fn sample_area(&self, u: Vec2, shape: &Shape) -> AreaSample {
         match shape {
             Shape::Mesh(m) => {
                 let (tri, _, ux) = self.triangles.as_ref().unwrap().sample_discrete(u.x);

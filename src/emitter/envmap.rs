@@ -215,6 +215,104 @@ impl EnvMap {
         self.marginal.pdf_continuous(uv.y) * self.conditional[j].pdf_continuous(x)
             / (2.0 * PI * PI * sin_t)
     }
+
+    /// The sampling cell (row-major over rows of cells, then cells) that world direction `d`
+    /// falls in.
+    #[inline]
+    pub fn cell(&self, d: Vec3) -> usize {
+        let uv = Self::uv((self.to_local * d).normalize());
+        let x = uv.x - 0.5 / self.width as f32;
+        let x = x - x.floor();
+        let rows = self.height - 1;
+        let j = ((uv.y * rows as f32) as usize).min(rows - 1);
+        let i = ((x * self.width as f32) as usize).min(self.width - 1);
+        j * self.width + i
+    }
+
+    /// Probability with which `sample` picks cell `cell`.
+    fn cell_probability(&self, cell: usize) -> f32 {
+        let (i, j) = (cell % self.width, cell / self.width);
+        self.marginal.pmf(j) * self.conditional[j].pmf(i)
+    }
+
+    /// The cells whose mean luminance is at least `ratio` times the map's (solid-angle) mean:
+    /// a sun, a small window; None if no cell is that bright.
+    pub fn bright_cells(&self, ratio: f32) -> Option<BrightCells> {
+        let (w, rows) = (self.width, self.height - 1);
+        let dtheta = PI as f64 / rows as f64;
+        let mut mask = vec![false; w * rows];
+        let (mut ids, mut weights) = (Vec::new(), Vec::new());
+        for j in 0..rows {
+            let p_row = self.marginal.pmf(j);
+            if p_row <= 0.0 {
+                continue;
+            }
+            // The cell's solid angle over the sphere's: its probability over that is its
+            // luminance over the mean.
+            let (t0, t1) = (j as f64 * dtheta, (j + 1) as f64 * dtheta);
+            let share = ((t0.cos() - t1.cos()) / (2.0 * w as f64)) as f32;
+            for i in 0..w {
+                let p = self.cell_probability(j * w + i);
+                if p > 0.0 && p >= ratio * share {
+                    mask[j * w + i] = true;
+                    ids.push((j * w + i) as u32);
+                    weights.push(p);
+                }
+            }
+        }
+        (!ids.is_empty()).then(|| BrightCells {
+            mask,
+            dist: Distribution1D::new(&weights),
+            ids,
+        })
+    }
+
+    /// A world direction drawn from the bright cells alone (each by its share of the map's
+    /// energy, uniform in (u, v) within it), with its solid-angle density.
+    #[inline]
+    pub fn sample_bright(&self, b: &BrightCells, u: Vec2) -> Option<(Vec3, f32)> {
+        let (k, p, ux) = b.dist.sample_discrete(u.x);
+        let cell = b.ids[k] as usize;
+        let (w, rows) = (self.width, self.height - 1);
+        let (i, j) = (cell % w, cell / w);
+        // Cells start at the first column's centre, as in `sample`.
+        let uu = (i as f32 + ux + 0.5) / w as f32;
+        let v = (j as f32 + u.y) / rows as f32;
+        let (sin_t, cos_t) = (PI * v).sin_cos();
+        let (sin_p, cos_p) = (2.0 * PI * uu).sin_cos();
+        if sin_t <= 0.0 {
+            return None;
+        }
+        let local = Vec3::new(sin_p * sin_t, cos_t, -cos_p * sin_t);
+        let pdf = p * (w * rows) as f32 / (2.0 * PI * PI * sin_t);
+        (pdf > 0.0 && pdf.is_finite()).then(|| ((self.to_world * local).normalize(), pdf))
+    }
+}
+
+/// A set of an environment map's sampling cells (`EnvMap::bright_cells`), with a distribution
+/// over them by energy.
+#[derive(Clone, Debug)]
+pub struct BrightCells {
+    mask: Vec<bool>,
+    ids: Vec<u32>,
+    dist: Distribution1D,
+}
+
+impl BrightCells {
+    /// True if cell `cell` (`EnvMap::cell`) is in the set.
+    #[inline]
+    pub fn contains(&self, cell: usize) -> bool {
+        self.mask[cell]
+    }
+
+    /// Number of cells in the set.
+    pub fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.ids.is_empty()
+    }
 }
 
 #[cfg(test)]
@@ -366,5 +464,83 @@ mod tests {
             }
         }
         assert!(differ <= 3, "{differ} samples' pdf differs from pdf()");
+    }
+
+    /// The bright cells of a map with a 3×2-texel sun: exactly the cells the sun's texels
+    /// touch, and `sample_bright` draws them by energy (chi-square over the cells, expected
+    /// counts from the cells' probabilities), lands in the cell it chose (`cell`), and its
+    /// density integrates to 1 over the set (a midpoint rule over each cell: 1e-3).
+    #[test]
+    fn bright_cells_hold_the_sun_and_sample_it_by_energy() {
+        let (w, h) = (32, 17);
+        let sun = |i: usize, j: usize| (10..13).contains(&i) && (4..6).contains(&j);
+        let img = image(w, h, |i, j| {
+            if sun(i, j) {
+                [300.0 + 40.0 * i as f32, 280.0, 250.0 + 30.0 * j as f32]
+            } else {
+                [0.4, 0.5, 0.9]
+            }
+        });
+        let m = EnvMap::new(&img, 1.0, Mat3::from_rotation_y(0.7));
+        // Corner cells touching one sun texel hold ~20× the mean, sky cells ~0.15×.
+        let b = m.bright_cells(5.0).expect("the sun is bright");
+        // A cell between columns i, i+1 and rows j, j+1 is bright iff a corner is sun.
+        for j in 0..h - 1 {
+            for i in 0..w {
+                let touches = [(i, j), ((i + 1) % w, j), (i, j + 1), ((i + 1) % w, j + 1)]
+                    .iter()
+                    .any(|&(x, y)| sun(x, y));
+                assert_eq!(b.contains(j * w + i), touches, "cell ({i}, {j})");
+            }
+        }
+        let total: f64 = b
+            .ids
+            .iter()
+            .map(|&c| m.cell_probability(c as usize) as f64)
+            .sum();
+        let mut counts = vec![0.0f64; w * (h - 1)];
+        let n = 200_000;
+        let mut rng = crate::math::rng::Pcg32::new(4, 2);
+        for _ in 0..n {
+            let u = Vec2::new(rng.next_f32(), rng.next_f32());
+            let (d, pdf) = m.sample_bright(&b, u).unwrap();
+            let c = m.cell(d);
+            assert!(b.contains(c), "sampled outside the set");
+            assert!(pdf > 0.0);
+            counts[c] += 1.0;
+        }
+        let (mut chi2, mut dof) = (0.0, 0);
+        for &c in &b.ids {
+            let e = m.cell_probability(c as usize) as f64 / total * n as f64;
+            chi2 += (counts[c as usize] - e).powi(2) / e;
+            dof += 1;
+        }
+        // dof − 1 degrees of freedom; the 1e-4 quantile is below dof + 4√(2 dof) + 10.
+        let limit = dof as f64 + 4.0 * (2.0 * dof as f64).sqrt() + 10.0;
+        assert!(
+            chi2 < limit,
+            "χ² = {chi2:.1} over {dof} cells (limit {limit:.1})"
+        );
+        // ∫ pdf dω over the bright cells, cell by cell in (u, v): dω = 2π² sin θ du dv.
+        let mut integral = 0.0f64;
+        let k = 16;
+        for &c in &b.ids {
+            let (i, j) = (c as usize % w, c as usize / w);
+            for a in 0..k {
+                for bb in 0..k {
+                    let uu = (i as f32 + (a as f32 + 0.5) / k as f32 + 0.5) / w as f32;
+                    let v = (j as f32 + (bb as f32 + 0.5) / k as f32) / (h - 1) as f32;
+                    let (st, ct) = (PI * v).sin_cos();
+                    let (sp, cp) = (2.0 * PI * uu).sin_cos();
+                    let d = m.to_world * Vec3::new(sp * st, ct, -cp * st);
+                    let p = b.dist.pmf(b.ids.iter().position(|&x| x == c).unwrap())
+                        * (w * (h - 1)) as f32
+                        / (2.0 * PI * PI * st);
+                    integral += (p * 2.0 * PI * PI * st) as f64 / (k * k * w * (h - 1)) as f64;
+                    assert_eq!(m.cell(d), c as usize);
+                }
+            }
+        }
+        assert!((integral - 1.0).abs() < 1e-3, "∫ pdf = {integral}");
     }
 }

@@ -13,7 +13,7 @@ use crate::ray::Ray;
 use crate::shape::Shape;
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 pub use area::{AreaEmitter, AreaLightSample};
-pub use envmap::EnvMap;
+pub use envmap::{BrightCells, EnvMap};
 use glam::{Vec2, Vec3};
 pub use spot::Spot;
 

@@ -1,6 +1,7 @@
 //! Rendering: the image is cut into tiles rendered in parallel; every pixel takes all its
 //! samples in order, so its value depends only on (scene, seed, pixel) and never on threads.
 
+pub mod caustics;
 pub mod path;
 
 use crate::film::{Film, FilmChannels};
@@ -9,6 +10,8 @@ use crate::sampler::{PixelSampler, SamplerKind};
 use crate::scene::Scene;
 use crate::sensor::Sensor;
 use crate::spectrum::{Spectrum, WavelengthSampler};
+pub use caustics::CausticSettings;
+use caustics::Caustics;
 use glam::Vec2;
 pub use path::{Dispersion, PathSettings};
 use rayon::prelude::*;
@@ -82,10 +85,19 @@ fn render_lanes<const N: usize>(
     let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
+    let caustics = settings.path.caustics.and_then(|c| Caustics::new(scene, c));
     let results: Vec<(Vec<f32>, TileCounts)> = tiles
         .par_iter()
         .map(|&(x0, y0)| {
-            let r = render_tile::<N>(scene, settings, sensor, dispersive, x0, y0);
+            let r = render_tile::<N>(
+                scene,
+                settings,
+                sensor,
+                dispersive,
+                caustics.as_ref(),
+                x0,
+                y0,
+            );
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
             progress(((x1 - x0) * (y1 - y0)) as u64 * settings.spp as u64);
             r
@@ -101,6 +113,11 @@ fn render_lanes<const N: usize>(
             let (x, y) = (x0 + i as u32 % tw, y0 + i as u32 / tw);
             let at = (y * w + x) as usize * slots;
             means[at..at + slots].copy_from_slice(px);
+        }
+    }
+    if let Some(c) = &caustics {
+        for (m, add) in means.iter_mut().zip(c.render::<N>(scene, settings, sensor)) {
+            *m = (*m as f64 + add) as f32;
         }
     }
     let samples = w as u64 * h as u64 * settings.spp as u64;
@@ -128,6 +145,7 @@ fn render_tile<const N: usize>(
     settings: &RenderSettings,
     sensor: &Sensor,
     dispersive: bool,
+    caustics: Option<&Caustics>,
     x0: u32,
     y0: u32,
 ) -> (Vec<f32>, TileCounts) {
@@ -141,10 +159,11 @@ fn render_tile<const N: usize>(
     let mut counts = TileCounts::default();
     let clamp = settings.path.clamp.unwrap_or(f32::INFINITY);
     let inv_spp = 1.0 / settings.spp as f64;
-    let radiance = if dispersive {
-        path::radiance::<N, true>
-    } else {
-        path::radiance::<N, false>
+    let radiance = match (dispersive, caustics.is_some()) {
+        (true, true) => path::radiance::<N, true, true>,
+        (true, false) => path::radiance::<N, true, false>,
+        (false, true) => path::radiance::<N, false, true>,
+        (false, false) => path::radiance::<N, false, false>,
     };
     for y in y0..y1 {
         for x in x0..x1 {
@@ -164,6 +183,7 @@ fn render_tile<const N: usize>(
                     &mut sampler,
                     &settings.path,
                     settings.dispersion,
+                    caustics,
                 );
                 if !l.is_finite() {
                     counts.invalid += 1;

@@ -5,6 +5,7 @@
 //! shows only directly visible emitters, 2 adds direct lighting, −1 is unbounded. Russian
 //! roulette starts once depth ≥ `rr_depth`: continue with q = min(max(β)·η², 0.95), β /= q.
 
+use super::caustics::{CausticSettings, Caustics};
 use crate::bsdf::{Bsdf, BsdfLike};
 use crate::emitter::{AreaEmitter, Emitter};
 use crate::interaction::SurfaceInteraction;
@@ -30,6 +31,11 @@ pub struct PathSettings {
     /// (W m^-2 sr^-1 nm^-1) in every lane. Off by default: clamping removes energy, so it biases
     /// ground truth (darker highlights and caustics); prism counts the samples it clamped.
     pub clamp: Option<f32>,
+    /// Opt-in caustic light tracing (`caustics: Some(())` for the defaults): caustics of an
+    /// environment map's sun, of directional and of area lights, seen on surfaces the camera
+    /// sees, are traced from the light instead of found by chance (`integrator::caustics`).
+    /// Unbiased.
+    pub caustics: Option<CausticSettings>,
 }
 
 impl Default for PathSettings {
@@ -39,6 +45,7 @@ impl Default for PathSettings {
             rr_depth: 5,
             hide_emitters: false,
             clamp: None,
+            caustics: None,
         }
     }
 }
@@ -60,18 +67,23 @@ pub enum Dispersion {
 ///
 /// `DISPERSIVE` is false for a scene without a dispersive material (decided once per render):
 /// the spectral-MIS bookkeeping of `Path` then compiles away, and such a scene pays nothing for
-/// it.
-pub fn radiance<const N: usize, const DISPERSIVE: bool>(
+/// it. With `caustics` (and `CAUSTICS`, likewise set once per render so that a render without
+/// it pays nothing), the paths its light tracer takes are left out here.
+#[allow(clippy::too_many_arguments)]
+pub fn radiance<const N: usize, const DISPERSIVE: bool, const CAUSTICS: bool>(
     scene: &Scene,
     mut ray: Ray,
     wl: &Wavelengths<N>,
     sampler: &mut PixelSampler,
     settings: &PathSettings,
     dispersion: Dispersion,
+    caustics: Option<&Caustics>,
 ) -> Spectrum<N> {
     if settings.max_depth == 0 {
         return Spectrum::zero();
     }
+    // Known to be None in the copy without caustics, so its checks compile away there.
+    let caustics = if CAUSTICS { caustics } else { None };
     let max_depth = if settings.max_depth < 0 {
         u32::MAX
     } else {
@@ -100,11 +112,18 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool>(
     };
     let mut depth = 1u32;
     let mut bsdf = Bsdf::default();
+    // Caustic light tracing's share: the first vertex (not glossy) scattered through a smooth
+    // lobe and `chain` later ones through Dirac lobes or at glossy surfaces (None once the
+    // path is not of that form; see `caustics`).
+    let mut chain: Option<u32> = None;
     loop {
         let show = depth > 1 || !settings.hide_emitters;
         let Some(si) = scene.intersect(&ray) else {
             if show {
                 for &e in &scene.environment {
+                    if matches!((caustics, chain), (Some(c), Some(1..)) if c.takes(e, ray.d)) {
+                        continue;
+                    }
                     let em = &scene.emitters[e as usize];
                     let le = em.le_env(ray.d, wl);
                     let w = if path.prev_delta {
@@ -117,7 +136,9 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool>(
             }
             break;
         };
-        if let Some(e) = scene.shape_emitter[si.shape as usize] {
+        if let Some(e) = scene.shape_emitter[si.shape as usize]
+            .filter(|&e| !matches!((caustics, chain), (Some(c), Some(1..)) if c.takes(e, ray.d)))
+        {
             let em = &scene.emitters[e as usize];
             // Area lights emit from their front side only.
             let le = match em {
@@ -145,14 +166,33 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool>(
         // One copy of the scattering code for each kind of BSDF: for a plain diffuse material
         // it is straight-line code without dispatch, which even leaves out the parts of the
         // local directions that a Lambertian lobe never reads (all but cos θ).
+        // Caustic light tracing connects the camera to surfaces that are not glossy, and
+        // follows the glossy ones (see `caustics`): a glossy vertex continuing its chain
+        // leaves its emitter samples of the light tracer's sources to it.
+        let glossy = caustics.is_some_and(|c| bsdf.glossy(c.max_roughness()));
+        let skip = match chain {
+            Some(_) if glossy && depth >= 2 => caustics,
+            _ => None,
+        };
         let next = match &bsdf {
-            Bsdf::Diffuse(d) => path.scatter::<DISPERSIVE>(d, &si, -ray.d, scene, wl, sampler),
-            Bsdf::Mixture(m) => path.scatter::<DISPERSIVE>(m, &si, -ray.d, scene, wl, sampler),
+            Bsdf::Diffuse(d) => {
+                path.scatter::<DISPERSIVE>(d, &si, -ray.d, scene, wl, sampler, skip)
+            }
+            Bsdf::Mixture(m) => {
+                path.scatter::<DISPERSIVE>(m, &si, -ray.d, scene, wl, sampler, skip)
+            }
         };
         let Some(next) = next else {
             break;
         };
         ray = next;
+        if caustics.is_some() {
+            chain = match (depth, chain) {
+                (1, _) if !path.prev_delta && !glossy => Some(0),
+                (2.., Some(k)) if path.prev_delta || glossy => Some(k + 1),
+                _ => None,
+            };
+        }
         if depth >= settings.rr_depth {
             let q = (path.beta.max_value() * path.lane_w * path.eta * path.eta).min(0.95);
             if sampler.next_1d() >= q {
@@ -224,8 +264,9 @@ impl<const N: usize> LeMemo<N> {
 impl<const N: usize> Path<N> {
     /// Emitter sampling and BSDF sampling at `si` with `bsdf`, for a path arriving from world
     /// direction `wi_world`: adds the light sampled there and returns the path's next ray
-    /// (None if the path ends here).
+    /// (None if the path ends here). Emitter samples that `skip` takes are left out.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn scatter<const DISPERSIVE: bool>(
         &mut self,
         bsdf: &impl BsdfLike<N>,
@@ -234,6 +275,7 @@ impl<const N: usize> Path<N> {
         scene: &Scene,
         wl: &Wavelengths<N>,
         sampler: &mut PixelSampler,
+        skip: Option<&Caustics>,
     ) -> Option<Ray> {
         let wi = si.frame.to_local(wi_world);
         let dispersive = DISPERSIVE && bsdf.dispersive();
@@ -263,7 +305,8 @@ impl<const N: usize> Path<N> {
             if let Some((wi_light, shadow, pdf, delta, radiance)) = sample {
                 let wo = si.frame.to_local(wi_light);
                 let f = bsdf.eval(wi, wo);
-                if !f.is_zero() && !scene.occluded(&shadow) {
+                let taken = skip.is_some_and(|c| c.takes(e as u32, wi_light));
+                if !taken && !f.is_zero() && !scene.occluded(&shadow) {
                     let le = match radiance {
                         Le::Value(le) => le,
                         Le::Area(a) => self.le_memo.get(e as u32, a, wl),

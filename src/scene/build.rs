@@ -175,6 +175,27 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         )?;
     }
 
+    if let Some(c) = &cfg.integrator.caustics {
+        check(
+            c.light_paths.is_finite() && c.light_paths > 0.0,
+            file,
+            "integrator.caustics.light_paths",
+            "light_paths must be a positive number of light paths per camera sample (default 0.1)",
+        )?;
+        check(
+            c.bright_ratio.is_finite() && c.bright_ratio > 0.0,
+            file,
+            "integrator.caustics.bright_ratio",
+            "bright_ratio must be a positive multiple of the environment map's mean (default 50)",
+        )?;
+        check(
+            (0.0..=1.0).contains(&c.max_roughness),
+            file,
+            "integrator.caustics.max_roughness",
+            "max_roughness must be a microfacet roughness α in [0, 1] (default 0.3; 0: Dirac lobes only)",
+        )?;
+    }
+
     // Outputs.
     let o = &cfg.outputs;
     let (blo, bhi) = o.band_range.unwrap_or(range);

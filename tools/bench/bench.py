@@ -36,7 +36,7 @@ from common import ROOT, SCENES, log  # noqa: E402
 DEFAULT_SPP = {"cornell": 64, "materials": 32, "mesh": 16}
 # Mitsuba's settings: the independent sampler and 4 wavelengths per path (prism's defaults, Sobol
 # and 8 wavelengths, cost 5-10% each per sample and pay it back in error: error_time.py).
-MATCHED = ["--sampler", "independent", "--wavelengths", "4"]
+MATCHED = ["--sampler", "independent", "--wavelengths", "4", "--caustics", "off"]
 
 
 def prism_best(binary, scene, spp, threads, repeats, tmp, extra=()) -> dict:

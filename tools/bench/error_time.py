@@ -8,8 +8,10 @@ Curves (one render per spp of a doubling ladder, render time only, scene loading
 - prism, BVH, at its defaults (padded Owen-scrambled Sobol sampler, 8 wavelengths per path,
   visible-importance wavelength sampling): `prism`;
 - prism variants, one change each: `--sampler independent` (Mitsuba's default sampler),
-  `--wavelengths 4` (Mitsuba's count), `--wavelengths 1`, `--wavelength-sampling uniform`; and
-  with both of Mitsuba's settings (independent, 4 wavelengths): `prism as Mitsuba`;
+  `--wavelengths 4` (Mitsuba's count), `--wavelengths 1`, `--wavelength-sampling uniform`,
+  and, on the scenes whose file turns caustic light tracing on (materials), `--caustics off`;
+  and with Mitsuba's settings (independent, 4 wavelengths, no light tracing): `prism as
+  Mitsuba`;
 - Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` on the exported scene, each with its
   default `independent` sampler and with its low-discrepancy `ldsampler` (each spp after a
   warm-up render, so the LLVM variant's kernel compilation is not counted).
@@ -52,8 +54,11 @@ PRISM_VARIANTS = {
     "prism 4 wavelengths": ["--sampler", "sobol", "--wavelengths", "4"],
     "prism 1 wavelength": ["--sampler", "sobol", "--wavelengths", "1"],
     "prism uniform wavelengths": [*DEFAULTS, "--wavelength-sampling", "uniform"],
-    "prism as Mitsuba": ["--sampler", "independent", "--wavelengths", "4"],
+    "prism without caustics": [*DEFAULTS, "--caustics", "off"],
+    "prism as Mitsuba": ["--sampler", "independent", "--wavelengths", "4", "--caustics", "off"],
 }
+# Variants that only differ from `prism` on some scenes, run on those alone.
+VARIANT_SCENES = {"prism without caustics": {"materials"}}
 MITSUBA_SAMPLERS = ("independent", "ldsampler")
 
 
@@ -102,6 +107,8 @@ def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_sp
         raise RuntimeError(r["error"])
     ref_prism = read_rgb(ref_exr)
     for label, extra in PRISM_VARIANTS.items():
+        if name not in VARIANT_SCENES.get(label, {name}):
+            continue
         for spp in spps:
             exr = tmp / f"{name}_p.exr"
             r = common.prism_render(binary, scene, spp, threads, exr, extra)

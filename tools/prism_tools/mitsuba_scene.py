@@ -291,6 +291,11 @@ def convert(scene: dict[str, Any], spp: int | None = None, seed: int = 0) -> dic
         raise Unsupported(f"integrator {integ['type']!r}")
     if integ.get("clamp") is not None:
         raise Unsupported(f"the integrator clamps radiance at {integ['clamp']} (biased; Mitsuba's path integrator does not clamp)")
+    # prism's caustic light tracing estimates paths its path tracer then leaves out: the same
+    # expected image as Mitsuba's path integrator, except for the caustics of directional
+    # lights, which no path tracer can reach (Mitsuba's image lacks them).
+    if integ.get("caustics") is not None and any(e.get("type") == "directional" for e in scene.get("emitters", [])):
+        raise Unsupported("caustic light tracing adds directional lights' caustics, which Mitsuba's path integrator cannot render")
     out: dict[str, Any] = {
         "type": "scene",
         "integrator": {
