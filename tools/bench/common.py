@@ -74,6 +74,15 @@ def mitsuba_env() -> dict[str, str]:
     return env
 
 
+def llvm_error(variant: str, error: str) -> str:
+    """`error` of a failed Mitsuba run, with the likely cause first when the LLVM variant failed
+    without libLLVM 19 (its own message is an LLVM code-generation dump that does not say so)."""
+    if variant.startswith("llvm") and "DRJIT_LIBLLVM_PATH" not in os.environ and not LLVM19.exists():
+        return (f"{LLVM19} is missing: Mitsuba's LLVM variants need libLLVM >= 19 "
+                f"(Debian: apt-get install -y libllvm19; tools/bench/run_all.sh installs it). {error}")
+    return error
+
+
 def measured(
     cmd: list[str], env: dict[str, str] | None = None, timeout: float = 1800.0
 ) -> tuple[int, str, str, float, float]:
@@ -165,7 +174,7 @@ def mitsuba_render(
     try:
         res = worker_json(out)
     except (IndexError, json.JSONDecodeError):
-        return {"error": (err.strip() or out.strip())[-400:], "cmd": shlex.join(map(str, cmd))}
+        return {"error": llvm_error(variant, (err.strip() or out.strip())[-400:]), "cmd": shlex.join(map(str, cmd))}
     best = min(res["render_s"])
     res.update(
         cmd=shlex.join(map(str, cmd)),
@@ -218,4 +227,4 @@ def mitsuba_ladder(
     try:
         return worker_json(out)
     except (IndexError, json.JSONDecodeError):
-        return {"error": (err.strip() or out.strip())[-400:] or f"exit code {code}"}
+        return {"error": llvm_error(variant, (err.strip() or out.strip())[-400:] or f"exit code {code}")}

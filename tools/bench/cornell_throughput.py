@@ -25,7 +25,8 @@ import sys
 import tempfile
 import time
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from common import ROOT, llvm_error, mitsuba_env  # noqa: E402
 
 
 def prism_throughput(binary: pathlib.Path, spp: int, repeats: int, threads: int | None) -> dict:
@@ -61,13 +62,13 @@ try:
 except Exception as e:
     print(json.dumps({{"error": str(e)}}))
 """
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=mitsuba_env())
     try:
         res = json.loads(out.stdout.strip().splitlines()[-1])
     except (IndexError, json.JSONDecodeError):
-        return {"error": out.stderr.strip()[-300:]}
+        return {"error": llvm_error(variant, out.stderr.strip()[-300:])}
     if isinstance(res, dict):
-        return res
+        return {"error": llvm_error(variant, res["error"])} if "error" in res else res
     best = min(res)
     return {"seconds": best, "msamples_per_s": 256 * 256 * spp / best / 1e6, "all_seconds": res}
 
@@ -79,8 +80,6 @@ def main() -> None:
     ap.add_argument("--prism", type=pathlib.Path, default=ROOT / "target/release/prism")
     ap.add_argument("--json", type=pathlib.Path, help="also write the results here")
     args = ap.parse_args()
-    if "DRJIT_LIBLLVM_PATH" not in os.environ and pathlib.Path("/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1").exists():
-        os.environ["DRJIT_LIBLLVM_PATH"] = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
     results = {
         "machine": {"cpus": os.cpu_count(), "load_average_before": os.getloadavg()},
         "spp": args.spp,

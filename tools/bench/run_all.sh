@@ -25,6 +25,13 @@ features=()
 # (No `grep -q`: under pipefail, ldconfig's SIGPIPE would read as "not installed".)
 if ldconfig -p 2>/dev/null | grep 'libembree3\.so ' >/dev/null; then features=(--features embree); fi
 
+# Mitsuba's LLVM variant needs libLLVM >= 19 (Debian's default 15 fails to compile its kernels);
+# without it that variant's rows say so and the rest still runs.
+if [ ! -e /usr/lib/x86_64-linux-gnu/libLLVM.so.19.1 ] && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "== installing libllvm19 (apt-get) for Mitsuba's llvm_ad_spectral"
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19 >/dev/null 2>&1 ||
+        { apt-get update -qq >/dev/null 2>&1 || true; DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19 >/dev/null 2>&1 || true; }
+fi
 echo "== machine: $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "== 1. bench.py"
 "$py" tools/bench/bench.py "${quick[@]}" --out "$out"
