@@ -1,5 +1,5 @@
-//! Caustics by light tracing: light paths from the scene's small, bright sources, through
-//! Dirac (smooth) surfaces, connected to the camera at the first surface that is not.
+//! Caustics by light tracing: light paths from the scene's bright sources, through Dirac
+//! (smooth) and glossy surfaces, connected to the camera at the first surface that is neither.
 //!
 //! A path tracer finds a caustic (camera → diffuse surface → mirror or glass → a sun) only when
 //! a BSDF-sampled ray from the diffuse surface happens to leave the smooth surface towards the
@@ -18,14 +18,20 @@
 //!   it could never reach through a Dirac lobe: those caustics, missing from any unidirectional
 //!   path tracer, are added.
 //!
+//! Caustics seen through a mirror or glass (camera → glass → floor → glass → sun) stay with the
+//! path tracer: a light path cannot connect to the camera through a Dirac lobe.
+//!
 //! Light paths aim at the objects that can focus light (their bounding spheres): from infinity
 //! they start on disks facing the source, one per object; from an area light they leave in the
-//! cones the objects subtend. Almost every light path so reaches such an object. Their contributions are
-//! splatted through the pixel filter; light paths are traced in fixed chunks whose splats are
-//! added in chunk order, so the image is the same whatever the thread count.
+//! cones the objects subtend. Almost every light path so reaches such an object. Their
+//! contributions are splatted through the pixel filter; light paths are traced in fixed chunks
+//! whose splats are added in chunk order, so the image is the same whatever the thread count.
+//! Light paths carry flux (importance transport), so a refraction's radiance scaling η² is
+//! undone along them, and shading normals get Veach's adjoint correction. A dispersive
+//! refraction keeps the hero wavelength alone (pbrt-v4's rule) on the light path.
 //!
 //! ```ron
-//! integrator: (max_depth: 8, caustics: Some((light_paths: 0.5)))
+//! integrator: (max_depth: 8, caustics: Some((light_paths: 0.1, bright_ratio: 50, max_roughness: 0.3, area_lights: true)))
 //! ```
 
 use super::RenderSettings;

@@ -179,12 +179,15 @@ def plot(rows: list[dict], scenes: list[str], path: pathlib.Path) -> None:
     import matplotlib.ticker
 
     fig, axes = plt.subplots(1, len(scenes), figsize=(5.2 * len(scenes), 4.4), squeeze=False)
+    # One colour per renderer in every panel (the default cycle of ten repeats past ten curves).
+    palette = plt.get_cmap("tab20").colors
+    colour = {label: palette[i % len(palette)] for i, label in enumerate(dict.fromkeys(r["renderer"] for r in rows))}
     for ax, scene in zip(axes[0], scenes):
         labels = dict.fromkeys(r["renderer"] for r in rows if r["scene"] == scene)
         for label in labels:
             pts = sorted((r["seconds"], r["relmse"]) for r in rows if r["scene"] == scene and r["renderer"] == label)
             style = "--" if label.startswith("mitsuba") else "-"
-            ax.loglog(*zip(*pts), style, marker="o", ms=3, label=label)
+            ax.loglog(*zip(*pts), style, marker="o", ms=3, label=label, color=colour[label])
         ax.set_title(scene)
         ax.set_xlabel("render seconds")
         ax.set_ylabel("relMSE")
