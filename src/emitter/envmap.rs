@@ -207,24 +207,28 @@ impl EnvMap {
         if sin_t <= 0.0 {
             return 0.0;
         }
+        let (v, x, j) = self.cell_coords(l);
+        self.marginal.pdf_continuous(v) * self.conditional[j].pdf_continuous(x)
+            / (2.0 * PI * PI * sin_t)
+    }
+
+    /// Where local direction `l` (unit) falls among the sampling cells: v, the position x in
+    /// [0, 1) along its row of cells (which starts at the first column's centre), and the row.
+    #[inline]
+    fn cell_coords(&self, l: Vec3) -> (f32, f32, usize) {
         let uv = Self::uv(l);
         let x = uv.x - 0.5 / self.width as f32;
         let x = x - x.floor();
         let rows = self.height - 1;
         let j = ((uv.y * rows as f32) as usize).min(rows - 1);
-        self.marginal.pdf_continuous(uv.y) * self.conditional[j].pdf_continuous(x)
-            / (2.0 * PI * PI * sin_t)
+        (uv.y, x, j)
     }
 
     /// The sampling cell (row-major over rows of cells, then cells) that world direction `d`
     /// falls in.
     #[inline]
     pub fn cell(&self, d: Vec3) -> usize {
-        let uv = Self::uv((self.to_local * d).normalize());
-        let x = uv.x - 0.5 / self.width as f32;
-        let x = x - x.floor();
-        let rows = self.height - 1;
-        let j = ((uv.y * rows as f32) as usize).min(rows - 1);
+        let (_, x, j) = self.cell_coords((self.to_local * d).normalize());
         let i = ((x * self.width as f32) as usize).min(self.width - 1);
         j * self.width + i
     }
