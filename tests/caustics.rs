@@ -2,6 +2,9 @@
 //! the split of paths between it and the path tracer (no path lost or counted twice), and
 //! determinism across thread counts.
 
+mod common;
+
+use common::mean_se;
 use prism::film::Film;
 use prism::integrator;
 use std::path::{Path, PathBuf};
@@ -17,13 +20,6 @@ fn render_at(text: &str, file: &Path, threads: usize) -> Film {
 
 fn channel<'a>(film: &'a Film, name: &str) -> &'a [f32] {
     &film.channels.iter().find(|c| c.name == name).unwrap().data
-}
-
-fn mean_se(data: &[f32]) -> (f64, f64) {
-    let n = data.len() as f64;
-    let m = data.iter().map(|&v| v as f64).sum::<f64>() / n;
-    let var = data.iter().map(|&v| (v as f64 - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, (var / n).sqrt())
 }
 
 /// A directional light (1 W m⁻² nm⁻¹, travelling down at 45°) on a diffuse floor (ρ) next to
@@ -175,17 +171,18 @@ fn split_is_unbiased_with(name: &str, shapes: &str, camera: &str, emitters: &str
     );
 }
 
+/// The floor, a mirror sphere and a water sphere, and a camera looking at them.
+const FLOOR: &str = r#"(shape: Rectangle, material: "floor", to_world: [Scale((6, 6, 1)), Rotate(axis: (1, 0, 0), angle: -90)]),"#;
+const SPHERES: &str = r#"(shape: Sphere(center: (-0.6, 0.5, 0), radius: 0.5), material: "mirror"),
+    (shape: Sphere(center: (0.7, 0.5, 0.2), radius: 0.5), material: "water"),"#;
+const CAMERA: &str =
+    "(fov: 60, to_world: [LookAt(origin: (0, 2.5, 3), target: (0, 0.2, 0), up: (0, 1, 0))])";
+
 /// A mirror sphere and a water sphere on a diffuse floor under a sun: caustics through Dirac
 /// reflection and refraction (entering and leaving the water).
 #[test]
 fn split_is_unbiased_for_mirror_and_glass() {
-    split_is_unbiased(
-        "spheres",
-        r#"(shape: Rectangle, material: "floor", to_world: [Scale((6, 6, 1)), Rotate(axis: (1, 0, 0), angle: -90)]),
-           (shape: Sphere(center: (-0.6, 0.5, 0), radius: 0.5), material: "mirror"),
-           (shape: Sphere(center: (0.7, 0.5, 0.2), radius: 0.5), material: "water"),"#,
-        "(fov: 60, to_world: [LookAt(origin: (0, 2.5, 3), target: (0, 0.2, 0), up: (0, 1, 0))])",
-    );
+    split_is_unbiased("spheres", &format!("{FLOOR}{SPHERES}"), CAMERA);
 }
 
 /// An area light (an 80 cm square, 1.5 m up) over a mirror sphere and a water sphere, and a dim
@@ -195,13 +192,11 @@ fn split_is_unbiased_for_mirror_and_glass() {
 /// for that reason alone.)
 #[test]
 fn split_is_unbiased_for_an_area_light() {
+    let light = r#"(shape: Rectangle, emitter: (radiance: Constant(8)), to_world: [Scale((0.4, 0.4, 1)), Rotate(axis: (1, 0, 0), angle: 90), Translate((0.3, 1.5, -0.5))]),"#;
     split_is_unbiased_with(
         "area",
-        r#"(shape: Rectangle, material: "floor", to_world: [Scale((6, 6, 1)), Rotate(axis: (1, 0, 0), angle: -90)]),
-           (shape: Sphere(center: (-0.6, 0.5, 0), radius: 0.5), material: "mirror"),
-           (shape: Sphere(center: (0.7, 0.5, 0.2), radius: 0.5), material: "water"),
-           (shape: Rectangle, emitter: (radiance: Constant(8)), to_world: [Scale((0.4, 0.4, 1)), Rotate(axis: (1, 0, 0), angle: 90), Translate((0.3, 1.5, -0.5))]),"#,
-        "(fov: 60, to_world: [LookAt(origin: (0, 2.5, 3), target: (0, 0.2, 0), up: (0, 1, 0))])",
+        &format!("{FLOOR}{SPHERES}{light}"),
+        CAMERA,
         "[Constant(radiance: Constant(0.2))]",
     );
 }
@@ -212,8 +207,9 @@ fn split_is_unbiased_for_an_area_light() {
 fn split_is_unbiased_through_frosted_glass() {
     split_is_unbiased(
         "frosted",
-        r#"(shape: Rectangle, material: "floor", to_world: [Scale((6, 6, 1)), Rotate(axis: (1, 0, 0), angle: -90)]),
-           (shape: Sphere(center: (0, 0.6, 0), radius: 0.5), material: "frosted"),"#,
+        &format!(
+            r#"{FLOOR}(shape: Sphere(center: (0, 0.6, 0), radius: 0.5), material: "frosted"),"#
+        ),
         "(fov: 50, to_world: [LookAt(origin: (0, 2.5, 2.5), target: (0, 0.2, 0), up: (0, 1, 0))])",
     );
 }

@@ -6,6 +6,9 @@
 //! value (σ estimated from that spread; P(|z| > 5) < 6e-7 per check). Each test also checks its
 //! standard error is small (≤ 0.5%), so a pass means something.
 
+mod common;
+
+use common::mean_se;
 use prism::film::Film;
 use prism::integrator;
 use std::path::{Path, PathBuf};
@@ -17,14 +20,6 @@ fn render(text: &str, threads: usize) -> Film {
         .build()
         .unwrap();
     pool.install(|| integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0)
-}
-
-/// Mean and standard error of the mean of a channel's pixels.
-fn mean_se(data: &[f32]) -> (f64, f64) {
-    let n = data.len() as f64;
-    let m = data.iter().map(|&v| v as f64).sum::<f64>() / n;
-    let var = data.iter().map(|&v| (v as f64 - m).powi(2)).sum::<f64>() / (n - 1.0);
-    (m, (var / n).sqrt())
 }
 
 fn check(name: &str, data: &[f32], expect: f64) -> (f64, f64) {

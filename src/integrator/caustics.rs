@@ -245,14 +245,12 @@ impl<'a> Caustics<'a> {
                 .collect();
             for s in batch.iter().flatten() {
                 let at = s.pixel as usize * slots;
-                let lane_w = Spectrum::from_fn(|j| {
-                    if s.wl.pdf[j] > 0.0 {
-                        1.0 / (N as f32 * s.wl.pdf[j])
-                    } else {
-                        0.0
-                    }
-                });
-                sensor.add(&mut acc[at..at + slots], &s.l, &lane_w, &s.wl);
+                sensor.add(
+                    &mut acc[at..at + slots],
+                    &s.l,
+                    &s.wl.estimator_weights(),
+                    &s.wl,
+                );
             }
             next += BATCH;
         }

@@ -193,15 +193,7 @@ fn render_tile<const N: usize>(
                     counts.clamped += 1;
                     l = Spectrum::from_fn(|j| l[j].min(clamp));
                 }
-                // Hero-wavelength lane weights 1 / (N p_j); a zero-pdf lane carries nothing.
-                let w = Spectrum::<N>::from_fn(|j| {
-                    if wl.pdf[j] > 0.0 {
-                        1.0 / (N as f32 * wl.pdf[j])
-                    } else {
-                        0.0
-                    }
-                });
-                sensor.add(&mut acc, &l, &w, &wl);
+                sensor.add(&mut acc, &l, &wl.estimator_weights(), &wl);
             }
             out.extend(acc.iter().map(|&a| (a * inv_spp) as f32));
         }

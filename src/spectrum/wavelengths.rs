@@ -43,6 +43,19 @@ pub struct Wavelengths<const N: usize> {
 }
 
 impl<const N: usize> Wavelengths<N> {
+    /// Each lane's weight in the hero-wavelength estimator, 1 / (N p_j); 0 for a lane of zero
+    /// density, which carries nothing.
+    #[inline]
+    pub fn estimator_weights(&self) -> crate::spectrum::Spectrum<N> {
+        crate::spectrum::Spectrum::from_fn(|j| {
+            if self.pdf[j] > 0.0 {
+                1.0 / (N as f32 * self.pdf[j])
+            } else {
+                0.0
+            }
+        })
+    }
+
     /// The hero wavelength, which drives every wavelength-dependent sampling decision.
     #[inline]
     pub fn hero(&self) -> f32 {

@@ -2,6 +2,14 @@
 //! emitter sampling.
 #![allow(dead_code)]
 
+/// Mean and standard error of the mean of a set of values (pixels of one channel).
+pub fn mean_se(data: &[f32]) -> (f64, f64) {
+    let n = data.len() as f64;
+    let m = data.iter().map(|&v| v as f64).sum::<f64>() / n;
+    let var = data.iter().map(|&v| (v as f64 - m).powi(2)).sum::<f64>() / (n - 1.0);
+    (m, (var / n).sqrt())
+}
+
 /// ln Γ(x) for x > 0 (Lanczos approximation, g = 7, n = 9; relative error < 1e-13).
 pub fn ln_gamma(x: f64) -> f64 {
     const G: f64 = 7.0;
