@@ -31,6 +31,22 @@ pub enum Command {
     /// Write the fully resolved scene (every default filled in, every spectrum tabulated, meshes
     /// as world-space PLY) as JSON, for other tools such as the Mitsuba 3 comparison.
     Export(ExportArgs),
+    /// Print a material's BSDF values at directions read from stdin (for tests against
+    /// independent implementations; see src/probe.rs).
+    #[command(hide = true)]
+    ProbeBsdf(ProbeArgs),
+}
+
+#[derive(clap::Args, Debug)]
+pub struct ProbeArgs {
+    /// The scene file (RON) defining the material.
+    pub scene: PathBuf,
+    /// The material's name in the scene.
+    #[arg(long)]
+    pub material: String,
+    /// Wavelengths in nm, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "550")]
+    pub lambda: Vec<f32>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -104,6 +120,13 @@ pub fn main() -> i32 {
         Command::Render(args) => render(&args),
         Command::Export(args) => crate::scene::load(&args.scene, |_| {})
             .and_then(|job| crate::export::export(&job, &args.scene, &args.output)),
+        Command::ProbeBsdf(a) => crate::probe::probe(
+            &a.scene,
+            &a.material,
+            &a.lambda,
+            std::io::stdin().lock(),
+            std::io::stdout().lock(),
+        ),
     };
     match result {
         Ok(()) => 0,

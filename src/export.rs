@@ -256,6 +256,12 @@ impl Ctx {
             } => json!({"type": "roughplastic", "diffuse_reflectance": self.texture(diffuse),
                 "specular_reflectance": self.texture(specular), "int_ior": eta, "ext_ior": 1.0, "nonlinear": nonlinear,
                 "distribution": distribution_name(microfacet.kind), "alpha": microfacet.alpha_u}),
+            // glTF's metallic-roughness model (Mitsuba's `principled` is a different model).
+            Material::Principled(p) => json!({"type": "gltf_principled",
+                "base_color": self.texture(&p.base_color), "metallic": self.float_texture(&p.metallic),
+                "roughness": self.float_texture(&p.roughness), "f0_ior": p.f0_ior,
+                "specular": p.specular, "specular_color": self.spectrum(&p.specular_color),
+                "specular_color_max": p.specular_color_max, "transmission": self.float_texture(&p.transmission)}),
         }
     }
 

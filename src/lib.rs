@@ -17,6 +17,7 @@ pub mod integrator;
 pub mod interaction;
 pub mod math;
 pub mod output;
+pub mod probe;
 pub mod ray;
 pub mod sampler;
 pub mod scene;

@@ -23,8 +23,8 @@ use std::path::Path;
 
 /// Chi-square tests this file runs (for the significance level): 46 for diffuse, plastics,
 /// conductors and mixtures, 44 for dielectrics (40 rough-dielectric configurations, 2
-/// dispersive, 2 blended). Counted by instrumenting `chi2_binned`.
-const CHI2_TESTS: usize = 90;
+/// dispersive, 2 blended), 12 for the principled material. Counted by instrumenting `chi2_binned`.
+const CHI2_TESTS: usize = 102;
 
 /// A material from its RON config (through the scene loader, so checks apply).
 pub fn material(cfg: &str) -> Material {
@@ -824,6 +824,81 @@ fn rough_plastic_matches_mitsuba() {
             assert!(
                 (got - want).abs() <= 3e-3 * want,
                 "specular {spec}, θi {ti}, θo {to}: prism {got}, Mitsuba {want}"
+            );
+        }
+    }
+}
+
+/// The glTF metallic-roughness material (`Principled`) at metallic 0, ½ and 1, three
+/// roughnesses, with and without thin-walled transmission, from above and below (the material
+/// is the same from both sides): 4 configurations × 3 angles = 12 chi-square tests.
+fn principled_cases() -> Vec<String> {
+    vec![
+        "Principled(base_color: Rgb(0.8, 0.4, 0.2), metallic: 0, roughness: 0.5)".into(),
+        "Principled(base_color: Rgb(0.9, 0.6, 0.3), metallic: 1, roughness: 0.3)".into(),
+        "Principled(base_color: Constant(0.7), metallic: 0.5, roughness: 0.8, ior: 1.8)".into(),
+        "Principled(base_color: Constant(0.9), metallic: 0.2, roughness: 0.4, transmission: 0.6, specular: 0.7)".into(),
+    ]
+}
+
+#[test]
+fn principled_sampling_matches_pdf() {
+    for cfg in principled_cases() {
+        let m = material(&cfg);
+        for t in [0.0, 60.0, -35.0] {
+            chi2(&cfg, &m, dir(t));
+            consistency(&cfg, &m, dir(t));
+        }
+    }
+}
+
+/// f(wi, wo) = f(wo, wi) for reflection and for (thin-walled) transmission, and energy ≤ 1
+/// (4 standard errors) at every tested angle, up to a white base colour.
+#[test]
+fn principled_reciprocity_and_energy() {
+    for cfg in principled_cases() {
+        let m = material(&cfg);
+        reciprocity(&cfg, &m);
+        energy_at_most_one(&cfg, &m);
+        let mut rng = Pcg32::new(10, 10);
+        for _ in 0..300 {
+            let a = prism::math::sampling::square_to_cosine_hemisphere(u2(&mut rng));
+            let mut c = prism::math::sampling::square_to_cosine_hemisphere(u2(&mut rng));
+            c.z = -c.z;
+            if a.z < 0.05 || c.z > -0.05 {
+                continue;
+            }
+            let f1 = bsdf(&m, a).eval(a, c)[0] / c.z.abs();
+            let f2 = bsdf(&m, c).eval(c, a)[0] / a.z;
+            assert!(
+                (f1 - f2).abs() <= 1e-3 * f1.abs().max(f2.abs()).max(1e-6),
+                "{cfg}: transmission f({a:?}, {c:?}) = {f1}, reversed {f2}"
+            );
+        }
+    }
+    // White furnace with a white base colour. Metals (single-scattering GGX) stay below 1 at
+    // every angle. The specification's dielectric does not: its diffuse base is weighted by
+    // 1 − Fr(V·H) per microfacet, not by the specular layer's albedo, so towards grazing
+    // incidence it gains energy (measured here at roughness 0.3: 1.025 at 60°, 1.22 at 80°,
+    // 1.33 at 89°; the numpy reference of tools/tests/test_principled.py has the same values
+    // pointwise). That is the spec's model, kept exactly; ≤ 1 is asserted up to 30°.
+    for cfg in [
+        "Principled(base_color: Constant(1), metallic: 1, roughness: 0.1)",
+        "Principled(base_color: Constant(1), metallic: 1, roughness: 1)",
+    ] {
+        energy_at_most_one(cfg, &material(cfg));
+    }
+    for cfg in [
+        "Principled(base_color: Constant(1), metallic: 0, roughness: 0.3)",
+        "Principled(base_color: Constant(1), metallic: 0, roughness: 1)",
+        "Principled(base_color: Constant(1), metallic: 0, roughness: 0.5, transmission: 1)",
+    ] {
+        let m = material(cfg);
+        for t in [0.0, 30.0] {
+            let (a, se) = albedo(&m, dir(t));
+            assert!(
+                a <= 1.0 + 4.0 * se + 1e-6,
+                "{cfg} θ={t}: albedo {a} ± {se} exceeds 1"
             );
         }
     }

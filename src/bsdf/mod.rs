@@ -24,6 +24,7 @@ mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
 mod plastic;
+pub mod principled;
 mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
@@ -39,6 +40,7 @@ pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
 use microfacet::{Distribution, Microfacet};
 pub use plastic::Plastic;
+pub use principled::{Principled, PrincipledParams};
 pub use roughconductor::RoughConductor;
 pub use roughdielectric::RoughDielectric;
 pub use roughplastic::RoughPlastic;
@@ -123,6 +125,8 @@ pub enum Material {
         nonlinear: bool,
         specular_weight: f32,
     },
+    /// The glTF 2.0 metallic-roughness BRDF (`principled`).
+    Principled(Box<PrincipledParams>),
 }
 
 /// ρ' = ρ / (1 − F_dr), or ρ / (1 − ρ F_dr) with `nonlinear`: the diffuse base with the light
@@ -152,6 +156,7 @@ pub enum Lobe<'a, const N: usize> {
     // Plastics.
     Plastic(Plastic<N>),
     RoughPlastic(RoughPlastic<'a, N>),
+    Principled(Principled<N>),
     /// Passes light straight through, unchanged (the transparent part of a `mask`).
     Null,
 }
@@ -241,7 +246,8 @@ impl Material {
             | Material::Conductor(_)
             | Material::RoughConductor { .. }
             | Material::Plastic { .. }
-            | Material::RoughPlastic { .. } => false,
+            | Material::RoughPlastic { .. }
+            | Material::Principled(_) => false,
         }
     }
 
@@ -258,7 +264,8 @@ impl Material {
             | Material::Dielectric { .. }
             | Material::RoughDielectric { .. }
             | Material::ThinDielectric { .. }
-            | Material::Plastic { .. } => true,
+            | Material::Plastic { .. }
+            | Material::Principled(_) => true,
             Material::Diffuse { .. } | Material::RoughPlastic { .. } => false,
         }
     }
@@ -412,6 +419,7 @@ impl Material {
                 return;
             }
             Material::Conductor(p) => Lobe::Conductor(p.at(si.uv, wl)),
+            Material::Principled(p) => Lobe::Principled(p.at(si.uv, wl)),
             Material::RoughConductor {
                 params,
                 distribution,
@@ -452,6 +460,7 @@ impl<'a, const N: usize> Lobe<'a, N> {
             // Plastics.
             Lobe::Plastic(b) => b.eval(wi, wo),
             Lobe::RoughPlastic(b) => b.eval(wi, wo),
+            Lobe::Principled(b) => b.eval(wi, wo),
             Lobe::Null => Spectrum::zero(),
         }
     }
@@ -470,6 +479,7 @@ impl<'a, const N: usize> Lobe<'a, N> {
             // Plastics.
             Lobe::Plastic(b) => b.pdf(wi, wo),
             Lobe::RoughPlastic(b) => b.pdf(wi, wo),
+            Lobe::Principled(b) => b.pdf(wi, wo),
             Lobe::Null => 0.0,
         }
     }
@@ -485,7 +495,9 @@ impl<'a, const N: usize> Lobe<'a, N> {
             Lobe::RoughDielectric(b) => b.pdf_lanes(wi, wo),
             Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => Spectrum::zero(),
             // Plastics.
-            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => Spectrum::splat(self.pdf(wi, wo)),
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) | Lobe::Principled(_) => {
+                Spectrum::splat(self.pdf(wi, wo))
+            }
         }
     }
 
@@ -503,6 +515,7 @@ impl<'a, const N: usize> Lobe<'a, N> {
             // Plastics.
             Lobe::Plastic(b) => b.sample(wi, uc, u),
             Lobe::RoughPlastic(b) => b.sample(wi, uc, u),
+            Lobe::Principled(b) => b.sample(wi, uc, u),
             Lobe::Null => Some(BsdfSample {
                 wo: -wi,
                 pdf: 1.0,
@@ -526,7 +539,7 @@ impl<'a, const N: usize> Lobe<'a, N> {
             Lobe::RoughDielectric(_) => true,
             Lobe::Dielectric(_) | Lobe::ThinDielectric(_) => false,
             // Plastics.
-            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => true,
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) | Lobe::Principled(_) => true,
             Lobe::Null => false,
         }
     }
@@ -538,6 +551,8 @@ impl<'a, const N: usize> Lobe<'a, N> {
             Lobe::Conductor(_) | Lobe::Dielectric(_) | Lobe::ThinDielectric(_) | Lobe::Null => true,
             Lobe::RoughConductor(b) => b.distr.alpha_u.max(b.distr.alpha_v) <= max_alpha,
             Lobe::RoughDielectric(b) => b.dist.alpha_u.max(b.dist.alpha_v) <= max_alpha,
+            // Only a pure metal is glossy throughout (a dielectric has a diffuse base).
+            Lobe::Principled(b) => b.metallic >= 1.0 && b.distr.alpha_u <= max_alpha,
             Lobe::Diffuse(_) | Lobe::Plastic(_) | Lobe::RoughPlastic(_) => false,
         }
     }
@@ -554,7 +569,7 @@ impl<'a, const N: usize> Lobe<'a, N> {
             Lobe::RoughDielectric(b) => b.dispersive,
             Lobe::ThinDielectric(b) => b.dispersive,
             // Plastics.
-            Lobe::Plastic(_) | Lobe::RoughPlastic(_) => false,
+            Lobe::Plastic(_) | Lobe::RoughPlastic(_) | Lobe::Principled(_) => false,
         }
     }
 }

@@ -357,6 +357,42 @@ pub enum MaterialConfig {
         #[serde(default)]
         nonlinear: bool,
     },
+    /// The glTF 2.0 metallic-roughness BRDF (the specification's Appendix B, with
+    /// KHR_materials_ior, _specular and thin-walled _transmission); what glTF materials become.
+    /// Defaults are glTF's: base_color 1, metallic 1, roughness 1 (α = roughness², GGX),
+    /// ior 1.5, specular 1, specular_color 1, transmission 0.
+    ///
+    /// ```ron
+    /// Principled(base_color: Rgb(0.8, 0.1, 0.1), metallic: 0, roughness: 0.4)
+    /// ```
+    Principled {
+        #[serde(default = "one_spectrum")]
+        base_color: SpectrumConfig,
+        #[serde(default = "one_float")]
+        metallic: FloatConfig,
+        #[serde(default = "one_float")]
+        roughness: FloatConfig,
+        #[serde(default = "gltf_ior")]
+        ior: f32,
+        #[serde(default = "one")]
+        specular: f32,
+        #[serde(default = "one_spectrum")]
+        specular_color: SpectrumConfig,
+        #[serde(default = "zero_float")]
+        transmission: FloatConfig,
+    },
+}
+
+fn one_float() -> FloatConfig {
+    FloatConfig::Value(1.0)
+}
+
+fn zero_float() -> FloatConfig {
+    FloatConfig::Value(0.0)
+}
+
+fn gltf_ior() -> f32 {
+    1.5
 }
 
 fn one_spectrum() -> SpectrumConfig {
@@ -487,6 +523,26 @@ pub enum ShapeKind {
     },
     /// `Mesh(path: "meshes/bunny.ply")`: an OBJ or PLY file, relative to the scene file.
     Mesh { path: String },
+    /// A glTF 2.0 file (`.gltf` or `.glb`, relative to the scene file): every mesh of its default
+    /// scene, placed by its node tree and then by `to_world`, with its materials, its emissive
+    /// materials as area lights and (unless `lights: false`) its KHR_lights_punctual lights.
+    /// `materials` replaces glTF materials by name with the scene's own; the shape's `material`
+    /// replaces them all.
+    ///
+    /// ```ron
+    /// Gltf(path: "models/car.glb", materials: {"Paint": "red metal"}, lights: false)
+    /// ```
+    Gltf {
+        path: String,
+        #[serde(default)]
+        materials: BTreeMap<String, String>,
+        #[serde(default = "yes")]
+        lights: bool,
+    },
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn one() -> f32 {

@@ -30,6 +30,13 @@ pub struct Job {
 /// Reads, checks and builds the scene file at `path`; `edit` may change the parsed config
 /// first (command-line overrides).
 pub fn load(path: &Path, edit: impl FnOnce(&mut SceneConfig)) -> Result<Job, Error> {
+    if super::gltf::is_gltf(path) {
+        let (mut cfg, warnings) = super::gltf::scene_config(path)?;
+        edit(&mut cfg);
+        let mut job = build(cfg, path)?;
+        job.warnings.splice(0..0, warnings);
+        return Ok(job);
+    }
     let mut cfg = config::parse_file(path)?;
     edit(&mut cfg);
     Ok(build(cfg, path)?)
@@ -249,9 +256,25 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let mut shape_material = Vec::new();
     let mut shape_emitter = Vec::new();
     let mut emitters = Vec::new();
+    let mut shape_name = Vec::new();
+    let mut gltf_emitters = Vec::new();
     let base = file.parent().unwrap_or(Path::new("."));
     for (i, sc) in cfg.shapes.iter().enumerate() {
         let field = format!("shapes[{i}]");
+        if let config::ShapeKind::Gltf { .. } = sc.shape {
+            let ex = super::gltf::expand(sc, file, &field, base, &names, range, &mut warnings)?;
+            super::gltf::add_shapes(
+                ex,
+                &mut materials,
+                &mut shapes,
+                &mut shape_material,
+                &mut shape_emitter,
+                &mut emitters,
+                &mut shape_name,
+                &mut gltf_emitters,
+            );
+            continue;
+        }
         let shape = geometry::shape(sc, file, &field, base, &mut warnings)?;
         let mat = match &sc.material {
             Some(name) => match names.iter().position(|n| *n == name) {
@@ -299,12 +322,16 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         shapes.push(shape);
         shape_material.push(mat);
         shape_emitter.push(emitter);
+        shape_name.push(None);
     }
     names.clear();
 
     for (i, e) in cfg.emitters.iter().enumerate() {
         let field = format!("emitters[{i}]");
         emitters.push(emitters::emitter(e, file, &field, range, &mut warnings)?);
+    }
+    for (field, e) in &gltf_emitters {
+        emitters.push(emitters::emitter(e, file, field, range, &mut warnings)?);
     }
     if emitters.is_empty() {
         warnings.push(format!(
@@ -333,7 +360,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
          `cargo build --release --features embree` (needs Embree 3, Debian: libembree-dev), \
          or use `accel: Bvh`",
     )?;
-    let scene = Scene::new(
+    let mut scene = Scene::new(
         camera,
         shapes,
         shape_material,
@@ -342,6 +369,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         emitters,
         cfg.accel,
     );
+    scene.shape_name = shape_name;
     Ok(Job {
         scene,
         settings,

@@ -116,6 +116,7 @@ pub fn shape(
             })?;
             Shape::Mesh(mesh.transformed(&t, sc.flip_normals))
         }
+        ShapeKind::Gltf { .. } => unreachable!("glTF shapes are expanded by scene::gltf"),
     };
     if let Shape::Mesh(m) = &shape {
         let degenerate = (0..m.indices.len())

@@ -97,6 +97,29 @@ fn build(
                 alpha_v,
             }
         }
+        MaterialConfig::Principled {
+            base_color,
+            metallic,
+            roughness,
+            ior,
+            specular,
+            specular_color,
+            transmission,
+        } => super::principled::from_config(
+            super::principled::Config {
+                base_color,
+                metallic,
+                roughness,
+                ior: *ior,
+                specular: *specular,
+                specular_color,
+                transmission,
+            },
+            field,
+            file,
+            range,
+            warnings,
+        )?,
         MaterialConfig::Conductor {
             material,
             eta,
@@ -422,7 +445,7 @@ fn specular(
 }
 
 /// A scalar parameter in [0, 1] (a blend weight, an opacity).
-fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, InputError> {
+pub(super) fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, InputError> {
     let ctx = spectrum_ctx(file, field, (0.0, 1.0));
     Ok(match f {
         FloatConfig::Value(v) => {

@@ -5,7 +5,9 @@
 mod build;
 mod emitters;
 mod geometry;
+pub mod gltf;
 mod materials;
+mod principled;
 
 use crate::accel::{Accel, AccelKind, Prim};
 use crate::bsdf::Material;
@@ -28,6 +30,8 @@ pub struct Scene {
     pub emitters: Vec<Emitter>,
     /// Indices of the emitters at infinity (looked up when a ray escapes).
     pub environment: Vec<u32>,
+    /// Name of each shape, where its source names it (glTF: the node's name).
+    pub shape_name: Vec<Option<String>>,
     accel: Accel,
     /// Shape of each scene-wide primitive id, and each shape's first id.
     prim_shape: Vec<u32>,
@@ -69,6 +73,7 @@ impl Scene {
             .map(|(i, _)| i as u32)
             .collect();
         Scene {
+            shape_name: vec![None; shapes.len()],
             camera,
             shapes,
             shape_material,

@@ -1,0 +1,288 @@
+//! glTF 2.0 scenes (`.gltf`, `.glb`), read with the `gltf` crate: a RON scene includes one as a
+//! shape (`shape: Gltf(path: "car.glb")`), and `prism render model.gltf` renders one directly
+//! (`scene_config`). The node tree is walked with its transforms composed; every mesh
+//! primitive under a node becomes one world-space shape named after the node; materials become
+//! `Principled` materials (or the scene's materials, replaced by name); emissive materials
+//! become area lights; KHR_lights_punctual lights and the cameras come out as config entries.
+//!
+//! Every problem a user can fix (bad JSON, a missing buffer or image, an extension prism cannot
+//! decode) is an `InputError` naming the glTF file and the JSON field.
+
+mod lights;
+mod materials;
+mod nodes;
+
+use crate::error::InputError;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+pub use lights::{scene_config, GltfCamera, GltfLight};
+pub use materials::dispersion_abbe;
+pub use nodes::{expand, walk, Expanded, ExpandedShape, MatRef, Primitive, Walk};
+
+/// Extensions prism reads (or can safely ignore when a file requires them).
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_specular",
+    "KHR_materials_volume",
+    "KHR_materials_dispersion",
+    "KHR_texture_transform",
+];
+
+/// A glTF file with its buffers and images loaded.
+pub struct Model {
+    pub doc: gltf::Document,
+    pub buffers: Vec<gltf::buffer::Data>,
+    pub images: Vec<gltf::image::Data>,
+    /// The file (for errors).
+    pub path: PathBuf,
+    /// Extensions the file uses that prism ignores (reported as warnings).
+    pub ignored_extensions: Vec<String>,
+}
+
+/// How to fix a file that requires an extension prism cannot decode.
+fn extension_hint(ext: &str) -> String {
+    let list = SUPPORTED_EXTENSIONS.join(", ");
+    match ext {
+        "KHR_draco_mesh_compression" | "EXT_meshopt_compression" => format!(
+            "prism reads uncompressed geometry only: re-export the model without mesh \
+             compression (Blender: untick Compression), or decompress it with a glTF tool \
+             (e.g. `gltf-transform copy in.glb out.glb` after `gltf-transform` decodes {ext}); \
+             supported extensions: {list}"
+        ),
+        "KHR_texture_basisu" | "EXT_texture_webp" | "EXT_texture_avif" => format!(
+            "prism reads PNG and JPEG textures only: re-export the model with PNG/JPEG textures \
+             (e.g. convert {ext} images with `gltf-transform`); supported extensions: {list}"
+        ),
+        _ => format!("supported extensions: {list}"),
+    }
+}
+
+fn err(path: &Path, field: impl Into<String>, message: impl Into<String>) -> InputError {
+    InputError::new(path, message).field(field)
+}
+
+/// Reads and checks a `.gltf` or `.glb` file, its buffers and images.
+pub fn open(path: &Path) -> Result<Model, InputError> {
+    let bytes = std::fs::read(path).map_err(|e| {
+        InputError::new(path, format!("cannot read the glTF file: {e}"))
+            .hint("glTF paths in a scene are relative to the scene file")
+    })?;
+    let (json_bytes, blob): (Vec<u8>, Option<Vec<u8>>) = if bytes.starts_with(b"glTF") {
+        let glb = gltf::Glb::from_slice(&bytes).map_err(|e| {
+            InputError::new(path, format!("not a valid binary glTF (GLB) file: {e}"))
+                .hint("re-export the file; a .glb starts with a 12-byte header and a JSON chunk")
+        })?;
+        (glb.json.into_owned(), glb.bin.map(|b| b.into_owned()))
+    } else {
+        (bytes, None)
+    };
+    let mut json: Value = serde_json::from_slice(&json_bytes).map_err(|e| {
+        InputError::new(path, format!("not valid glTF JSON: {e}"))
+            .at(e.line(), e.column())
+            .hint("a .gltf file is JSON (glTF 2.0); check it with the Khronos glTF validator")
+    })?;
+    let version = json
+        .pointer("/asset/version")
+        .and_then(Value::as_str)
+        .map(str::to_owned);
+    match version.as_deref() {
+        Some(v) if v.starts_with("2.") => {}
+        Some(v) => {
+            return Err(
+                err(path, "asset.version", format!("glTF {v} is not supported"))
+                    .hint("prism reads glTF 2.0; convert older files (e.g. with gltf-pipeline)"),
+            )
+        }
+        None => {
+            return Err(err(path, "asset.version", "the file has no asset.version")
+                .hint("a glTF 2.0 file starts with \"asset\": {\"version\": \"2.0\"}"))
+        }
+    }
+    // Required extensions prism cannot decode stop the load; used-but-optional ones are noted.
+    let list = |key: &str| -> Vec<String> {
+        json.get(key)
+            .and_then(Value::as_array)
+            .map(|a| {
+                a.iter()
+                    .filter_map(|v| v.as_str().map(str::to_owned))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let required = list("extensionsRequired");
+    for (i, ext) in required.iter().enumerate() {
+        if !SUPPORTED_EXTENSIONS.contains(&ext.as_str()) {
+            return Err(err(
+                path,
+                format!("extensionsRequired[{i}]"),
+                format!("the file requires the extension {ext}, which prism does not support"),
+            )
+            .hint(extension_hint(ext)));
+        }
+    }
+    let ignored_extensions = list("extensionsUsed")
+        .into_iter()
+        .filter(|e| !SUPPORTED_EXTENSIONS.contains(&e.as_str()))
+        .collect();
+    // The crate does not know every extension prism reads from the raw JSON (dispersion):
+    // it would refuse a file that requires one, so those are taken off its list.
+    if let Some(Value::Array(a)) = json.get_mut("extensionsRequired") {
+        a.retain(|v| v.as_str().is_some_and(|s| s != "KHR_materials_dispersion"));
+    }
+    check_position_indices(path, &json)?;
+    let root: gltf::json::Root = serde_json::from_value(json).map_err(|e| {
+        InputError::new(path, format!("not a valid glTF 2.0 document: {e}"))
+            .hint("check the file with the Khronos glTF validator")
+    })?;
+    let doc = gltf::Document::from_json(root).map_err(|e| match e {
+        gltf::Error::Validation(errs) => {
+            let (p, first) = &errs[0];
+            err(
+                path,
+                p.to_string(),
+                format!(
+                    "invalid glTF: {first}{}",
+                    if errs.len() > 1 {
+                        format!(" (and {} more problems)", errs.len() - 1)
+                    } else {
+                        String::new()
+                    }
+                ),
+            )
+            .hint("check the file with the Khronos glTF validator")
+        }
+        e => InputError::new(path, format!("invalid glTF: {e}")),
+    })?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut blob = blob;
+    let mut buffers = Vec::new();
+    for b in doc.buffers() {
+        let field = format!("buffers[{}]", b.index());
+        let what = match b.source() {
+            gltf::buffer::Source::Uri(u) if u.starts_with("data:") => "its data URI".to_string(),
+            gltf::buffer::Source::Uri(u) => format!("\"{u}\""),
+            gltf::buffer::Source::Bin => "the GLB's BIN chunk".to_string(),
+        };
+        let data =
+            gltf::buffer::Data::from_source_and_blob(b.source(), Some(base), &mut blob).map_err(
+                |e| {
+                    err(path, format!("{field}.uri"), format!("cannot load {what}: {e}")).hint(
+                    "external buffers (.bin) are relative to the glTF file: keep them beside it",
+                )
+                },
+            )?;
+        if data.len() < b.length() {
+            return Err(err(
+                path,
+                format!("{field}.byteLength"),
+                format!(
+                    "{what} holds {} bytes but byteLength says {}",
+                    data.len(),
+                    b.length()
+                ),
+            )
+            .hint("the buffer file is truncated or is not this model's; re-export the model"));
+        }
+        buffers.push(data);
+    }
+    let mut images = Vec::new();
+    for im in doc.images() {
+        let field = format!("images[{}]", im.index());
+        let what = match im.source() {
+            gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
+                "its data URI".to_string()
+            }
+            gltf::image::Source::Uri { uri, .. } => format!("\"{uri}\""),
+            gltf::image::Source::View { view, .. } => format!("bufferViews[{}]", view.index()),
+        };
+        let data =
+            gltf::image::Data::from_source(im.source(), Some(base), &buffers).map_err(|e| {
+                err(
+                    path,
+                    field.clone(),
+                    format!("cannot load the image {what}: {e}"),
+                )
+                .hint("images are PNG or JPEG, relative to the glTF file: keep them beside it")
+            })?;
+        images.push(data);
+    }
+    Ok(Model {
+        doc,
+        buffers,
+        images,
+        path: path.to_path_buf(),
+        ignored_extensions,
+    })
+}
+
+/// The crate's validator indexes `accessors` with each POSITION attribute unchecked (it would
+/// panic on a bad index), so those indices are checked here first.
+fn check_position_indices(path: &Path, json: &Value) -> Result<(), InputError> {
+    let accessors = json
+        .get("accessors")
+        .and_then(Value::as_array)
+        .map_or(0, Vec::len);
+    let meshes = json.get("meshes").and_then(Value::as_array);
+    for (i, m) in meshes.into_iter().flatten().enumerate() {
+        let prims = m.get("primitives").and_then(Value::as_array);
+        for (j, p) in prims.into_iter().flatten().enumerate() {
+            if let Some(v) = p.pointer("/attributes/POSITION") {
+                if v.as_u64().is_none_or(|k| k as usize >= accessors) {
+                    return Err(err(
+                        path,
+                        format!("meshes[{i}].primitives[{j}].attributes.POSITION"),
+                        format!(
+                            "invalid glTF: accessor {v} does not exist (the file has {accessors})"
+                        ),
+                    )
+                    .hint("check the file with the Khronos glTF validator"));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// True if `path` names a glTF file (by its extension).
+pub fn is_gltf(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
+}
+
+/// Appends an expanded glTF shape to the scene being built (`scene::build`).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn add_shapes(
+    ex: Expanded,
+    materials: &mut Vec<crate::bsdf::Material>,
+    shapes: &mut Vec<crate::shape::Shape>,
+    shape_material: &mut Vec<u32>,
+    shape_emitter: &mut Vec<Option<u32>>,
+    emitters: &mut Vec<crate::emitter::Emitter>,
+    shape_name: &mut Vec<Option<String>>,
+    punctual: &mut Vec<(String, crate::config::EmitterConfig)>,
+) {
+    let first = materials.len() as u32;
+    materials.extend(ex.materials);
+    for s in ex.shapes {
+        let mat = match s.material {
+            MatRef::Scene(k) => k,
+            MatRef::New(k) => first + k as u32,
+        };
+        let emitter = s.emission.map(|radiance| {
+            emitters.push(crate::emitter::Emitter::Area(
+                crate::emitter::AreaEmitter::new(shapes.len() as u32, &s.shape, radiance),
+            ));
+            (emitters.len() - 1) as u32
+        });
+        shapes.push(s.shape);
+        shape_material.push(mat);
+        shape_emitter.push(emitter);
+        shape_name.push(s.name);
+    }
+    punctual.extend(ex.emitters);
+}

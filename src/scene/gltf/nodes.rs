@@ -1,0 +1,388 @@
+//! The node tree: transforms composed from the root down, mesh primitives read into world-space
+//! meshes named after their node, cameras and lights collected with their world transforms.
+
+use super::lights::{self, GltfCamera, GltfLight};
+use super::materials::GltfMaterials;
+use super::Model;
+use crate::bsdf::Material;
+use crate::config::{spectrum_ctx, EmitterConfig, Role, ShapeConfig, ShapeKind};
+use crate::error::InputError;
+use crate::math::Transform;
+use crate::shape::{Mesh, Shape};
+use crate::spectrum::Curve;
+use glam::{Mat4, Vec2, Vec3};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// One mesh primitive placed in the world.
+pub struct Primitive {
+    pub mesh: Mesh,
+    /// Its glTF material index (None: the glTF default material).
+    pub material: Option<usize>,
+    /// The instance's name: the node's, else the mesh's, else `node<i>`.
+    pub name: String,
+    /// (mesh, primitive) indices in the file.
+    pub source: (usize, usize),
+    /// Per-vertex tangents (xyz, w = bitangent sign), world space, if the file has them.
+    pub tangents: Vec<[f32; 4]>,
+}
+
+/// What the walk over the default scene finds.
+pub struct Walk {
+    pub primitives: Vec<Primitive>,
+    pub cameras: Vec<GltfCamera>,
+    pub lights: Vec<GltfLight>,
+    /// World bounds of every vertex (min, max); None without geometry.
+    pub bounds: Option<(Vec3, Vec3)>,
+    /// Nodes visited and mesh instances (node–mesh pairs), for checks and statistics.
+    pub nodes: usize,
+    pub mesh_instances: usize,
+}
+
+/// A local mesh read once per (mesh, primitive), with its tangents.
+type LocalMesh = (Mesh, Vec<[f32; 4]>);
+
+/// Walks the default scene (or the first, if the file names none) under `to_world`.
+pub fn walk(model: &Model, to_world: Mat4, warnings: &mut Vec<String>) -> Result<Walk, InputError> {
+    let path = &model.path;
+    let scene = model
+        .doc
+        .default_scene()
+        .or_else(|| model.doc.scenes().next())
+        .ok_or_else(|| {
+            InputError::new(path, "the file has no scenes, so nothing to render")
+                .field("scenes")
+                .hint("export the model with at least one scene holding its nodes")
+        })?;
+    let mut w = Walk {
+        primitives: Vec::new(),
+        cameras: Vec::new(),
+        lights: Vec::new(),
+        bounds: None,
+        nodes: 0,
+        mesh_instances: 0,
+    };
+    let mut cache: HashMap<(usize, usize), Option<LocalMesh>> = HashMap::new();
+    // Depth-first, iteratively (deep trees must not overflow the stack); a node reached twice
+    // (a cycle, which the spec forbids) is refused.
+    let mut seen = vec![false; model.doc.nodes().len()];
+    let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, to_world)).collect();
+    stack.reverse();
+    while let Some((node, parent)) = stack.pop() {
+        let field = format!("nodes[{}]", node.index());
+        if std::mem::replace(&mut seen[node.index()], true) {
+            return Err(InputError::new(
+                path,
+                "this node is reached twice: the node tree has a cycle or a shared child",
+            )
+            .field(field)
+            .hint("each node may have one parent (glTF 2.0 §3.5.1)"));
+        }
+        w.nodes += 1;
+        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        if !local.is_finite() {
+            return Err(InputError::new(path, "the node's transform is not finite").field(field));
+        }
+        let world = parent * local;
+        if let Some(cam) = node.camera() {
+            w.cameras.push(lights::camera(&cam, world, node.name()));
+        }
+        if let Some(light) = node.light() {
+            w.lights.push(lights::light(&light, world));
+        }
+        if let Some(mesh) = node.mesh() {
+            w.mesh_instances += 1;
+            let name = node
+                .name()
+                .or(mesh.name())
+                .map_or_else(|| format!("node{}", node.index()), str::to_owned);
+            let t = Transform::from_matrix(world).ok_or_else(|| {
+                InputError::new(
+                    path,
+                    "the node's world transform is singular (a zero scale?)",
+                )
+                .field(&field)
+                .hint("give every node a non-zero scale")
+            })?;
+            // A mirroring transform turns the winding around (glTF 2.0 §3.7.4: front faces
+            // follow the determinant's sign).
+            let mirror = world.determinant() < 0.0;
+            for prim in mesh.primitives() {
+                let key = (mesh.index(), prim.index());
+                if let std::collections::hash_map::Entry::Vacant(e) = cache.entry(key) {
+                    e.insert(read_primitive(model, &prim, mesh.index(), warnings)?);
+                }
+                let Some((local_mesh, tangents)) = &cache[&key] else {
+                    continue;
+                };
+                let mut m = local_mesh.clone().transformed(&t, false);
+                if mirror {
+                    m.indices.iter_mut().for_each(|tri| tri.swap(1, 2));
+                }
+                let tangents = tangents
+                    .iter()
+                    .map(|t4| {
+                        let v = world.transform_vector3(Vec3::new(t4[0], t4[1], t4[2]));
+                        let v = v.normalize_or_zero();
+                        [v.x, v.y, v.z, if mirror { -t4[3] } else { t4[3] }]
+                    })
+                    .collect();
+                for p in &m.positions {
+                    let b = w.bounds.get_or_insert((*p, *p));
+                    *b = (b.0.min(*p), b.1.max(*p));
+                }
+                w.primitives.push(Primitive {
+                    mesh: m,
+                    material: prim.material().index(),
+                    source: key,
+                    name: name.clone(),
+                    tangents,
+                });
+            }
+        }
+        for c in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((c, world));
+        }
+    }
+    Ok(w)
+}
+
+/// Reads a primitive's triangles in mesh space; None (with a warning) for points and lines.
+fn read_primitive(
+    model: &Model,
+    prim: &gltf::Primitive,
+    mesh: usize,
+    warnings: &mut Vec<String>,
+) -> Result<Option<LocalMesh>, InputError> {
+    use gltf::mesh::Mode;
+    let path = &model.path;
+    let field = format!("meshes[{mesh}].primitives[{}]", prim.index());
+    let reader = prim.reader(|b| model.buffers.get(b.index()).map(|d| &d.0[..]));
+    let positions: Vec<Vec3> = reader
+        .read_positions()
+        .ok_or_else(|| {
+            InputError::new(path, "the primitive has no POSITION attribute")
+                .field(format!("{field}.attributes.POSITION"))
+                .hint("every triangle primitive needs vertex positions")
+        })?
+        .map(Vec3::from)
+        .collect();
+    let n = positions.len() as u32;
+    let list: Vec<u32> = match reader.read_indices() {
+        Some(ix) => ix.into_u32().collect(),
+        None => (0..n).collect(),
+    };
+    let tris: Vec<[u32; 3]> = match prim.mode() {
+        Mode::Triangles => list.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        // Strips alternate their winding so that every triangle faces the same way.
+        Mode::TriangleStrip => (2..list.len())
+            .map(|i| {
+                if i % 2 == 0 {
+                    [list[i - 2], list[i - 1], list[i]]
+                } else {
+                    [list[i - 1], list[i - 2], list[i]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (2..list.len())
+            .map(|i| [list[0], list[i - 1], list[i]])
+            .collect(),
+        other => {
+            warnings.push(format!(
+                "{}: {field}: mode {other:?} has no surface to render; skipped",
+                path.display()
+            ));
+            return Ok(None);
+        }
+    };
+    let normals: Vec<Vec3> = reader
+        .read_normals()
+        .map(|it| it.map(Vec3::from).collect())
+        .unwrap_or_default();
+    let uvs: Vec<Vec2> = reader
+        .read_tex_coords(0)
+        .map(|it| it.into_f32().map(Vec2::from).collect())
+        .unwrap_or_default();
+    let tangents: Vec<[f32; 4]> = reader
+        .read_tangents()
+        .map(|it| it.collect())
+        .unwrap_or_default();
+    let mesh = Mesh {
+        positions,
+        normals,
+        uvs,
+        indices: tris,
+    };
+    if mesh.indices.is_empty() {
+        warnings.push(format!(
+            "{}: {field}: no triangles; skipped",
+            path.display()
+        ));
+        return Ok(None);
+    }
+    mesh.validate().map_err(|m| {
+        InputError::new(path, m)
+            .field(&field)
+            .hint("the accessors of this primitive disagree; re-export the model")
+    })?;
+    Ok(Some((mesh, tangents)))
+}
+
+/// A material reference of an expanded shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MatRef {
+    /// One of the scene's own materials (by index).
+    Scene(u32),
+    /// One of `Expanded::materials`.
+    New(usize),
+}
+
+/// One shape of an included glTF file.
+pub struct ExpandedShape {
+    pub shape: Shape,
+    pub material: MatRef,
+    /// Area-light radiance (emissive material or the shape's `emitter`).
+    pub emission: Option<Curve>,
+    pub name: Option<String>,
+}
+
+/// What a `Gltf` shape adds to the scene.
+pub struct Expanded {
+    pub shapes: Vec<ExpandedShape>,
+    pub materials: Vec<Material>,
+    /// Its KHR_lights_punctual lights (unless `lights: false`).
+    pub emitters: Vec<(String, EmitterConfig)>,
+}
+
+/// Expands shape `sc` (a `ShapeKind::Gltf`), called `field` in errors, with paths relative to
+/// `base`; `names` are the scene's material names (in index order) for overrides.
+pub fn expand(
+    sc: &ShapeConfig,
+    file: &Path,
+    field: &str,
+    base: &Path,
+    names: &[&String],
+    range: (f32, f32),
+    warnings: &mut Vec<String>,
+) -> Result<Expanded, InputError> {
+    let ShapeKind::Gltf {
+        path,
+        materials: overrides,
+        lights,
+    } = &sc.shape
+    else {
+        unreachable!("expand is called for glTF shapes only")
+    };
+    let t = super::super::transform(&sc.to_world, file, &format!("{field}.to_world"))?;
+    let full = base.join(path);
+    let model = super::open(&full).map_err(|e| {
+        let hint = e.hint.clone().unwrap_or_default();
+        e.hint(format!("{hint} (included by {} {field})", file.display()).trim_start())
+    })?;
+    for ext in &model.ignored_extensions {
+        warnings.push(format!(
+            "{}: extension {ext} is used but not supported; it is ignored",
+            full.display()
+        ));
+    }
+    let walk = walk(&model, t.m, warnings)?;
+    let lookup = |name: &str, f: String| -> Result<u32, InputError> {
+        names
+            .iter()
+            .position(|n| n.as_str() == name)
+            .map(|k| k as u32)
+            .ok_or_else(|| {
+                InputError::new(file, format!("unknown material \"{name}\""))
+                    .field(f)
+                    .hint("name one of the scene's `materials`")
+            })
+    };
+    let all = sc
+        .material
+        .as_deref()
+        .map(|m| lookup(m, format!("{field}.material")))
+        .transpose()?;
+    let mut by_name = HashMap::new();
+    for (gltf_name, prism_name) in overrides {
+        let f = format!("{field}.shape.materials.\"{gltf_name}\"");
+        if !model.doc.materials().any(|m| m.name() == Some(gltf_name)) {
+            let list: Vec<String> = model
+                .doc
+                .materials()
+                .filter_map(|m| m.name().map(|n| format!("\"{n}\"")))
+                .collect();
+            return Err(InputError::new(
+                file,
+                format!("{} has no material named \"{gltf_name}\"", full.display()),
+            )
+            .field(f)
+            .hint(format!(
+                "its materials are: {}",
+                if list.is_empty() {
+                    "(none named)".into()
+                } else {
+                    list.join(", ")
+                }
+            )));
+        }
+        by_name.insert(gltf_name.as_str(), lookup(prism_name, f)?);
+    }
+    let area = match &sc.emitter {
+        Some(e) => Some(e.radiance.resolve(
+            Role::Emission,
+            &spectrum_ctx(file, &format!("{field}.emitter.radiance"), range),
+            warnings,
+        )?),
+        None => None,
+    };
+    let mut mats = GltfMaterials::new(&model);
+    let mut out = Expanded {
+        shapes: Vec::new(),
+        materials: Vec::new(),
+        emitters: Vec::new(),
+    };
+    for p in walk.primitives {
+        let gltf_mat = p
+            .material
+            .map(|i| model.doc.materials().nth(i).expect("validated index"));
+        let over = all.or_else(|| {
+            gltf_mat
+                .as_ref()
+                .and_then(|m| m.name())
+                .and_then(|n| by_name.get(n).copied())
+        });
+        let (material, emission) = match over {
+            Some(k) => (MatRef::Scene(k), None),
+            None => {
+                let gm = model.doc.meshes().nth(p.source.0).expect("walked mesh");
+                let gm = gm
+                    .primitives()
+                    .nth(p.source.1)
+                    .expect("walked primitive")
+                    .material();
+                let (k, emission) = mats.get(&gm, warnings)?;
+                (MatRef::New(k), emission)
+            }
+        };
+        let mut mesh = p.mesh;
+        if sc.flip_normals {
+            mesh = mesh.transformed(&Transform::IDENTITY, true);
+        }
+        out.shapes.push(ExpandedShape {
+            shape: Shape::Mesh(mesh),
+            material,
+            emission: area.clone().or(emission),
+            name: Some(p.name),
+        });
+    }
+    out.materials = mats.into_materials();
+    if *lights {
+        for l in &walk.lights {
+            out.emitters.push((
+                format!("{field} ({} light {})", full.display(), l.name),
+                l.emitter.clone(),
+            ));
+        }
+    }
+    Ok(out)
+}
