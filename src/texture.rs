@@ -99,6 +99,14 @@ impl<T: Copy> Grid<T> {
     }
 }
 
+impl Grid<glam::Vec3> {
+    /// The interpolated vector at `uv` (normal maps).
+    #[inline]
+    pub fn eval_vec3(&self, uv: Vec2) -> glam::Vec3 {
+        self.taps(uv).iter().map(|(v, w)| *v * *w).sum()
+    }
+}
+
 /// A spectral parameter: uniform, checkerboard, or an RGB bitmap (bounded reflectance).
 #[derive(Clone, Debug, PartialEq)]
 pub enum SpectralTexture {

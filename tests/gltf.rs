@@ -421,3 +421,209 @@ fn bad_gltf_input_is_reported() {
         assert!(err.contains(n), "stderr lacks `{n}`: {err}");
     }
 }
+
+fn base64(bytes: &[u8]) -> String {
+    const B64: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for c in bytes.chunks(3) {
+        let n = (c[0] as u32) << 16
+            | (*c.get(1).unwrap_or(&0) as u32) << 8
+            | *c.get(2).unwrap_or(&0) as u32;
+        for k in 0..4 {
+            if k <= c.len() {
+                out.push(B64[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// A one-triangle glTF with `materials` (JSON text) used by its primitive (material 0), and
+/// `extensions_used`.
+fn triangle_gltf(materials: &str, extensions_used: &str) -> String {
+    // Positions (0,0,0), (1,0,0), (0,1,0) as little-endian f32.
+    let mut bytes = Vec::new();
+    for v in [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    let b64 = base64(&bytes);
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": [{extensions_used}], "scene": 0, "scenes": [{{"nodes": [0]}}],
+        "nodes": [{{"mesh": 0, "name": "tri"}}], "materials": {materials},
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "material": 0}}]}}],
+        "buffers": [{{"byteLength": 36, "uri": "data:application/octet-stream;base64,{b64}"}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+        "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}}]}}"#
+    )
+}
+
+fn load_text(name: &str, gltf_text: &str) -> prism::scene::Job {
+    let dir = workdir(name);
+    let file = dir.join(format!("{name}.gltf"));
+    std::fs::write(&file, gltf_text).unwrap();
+    prism::scene::load(&file, small).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// KHR_materials_dispersion (20 / V_d) on a transmissive material becomes a dispersive
+/// dielectric with that Abbe number and n_d = ior; emission × KHR_materials_emissive_strength
+/// an area light (and no default environment); alpha MASK below the cutoff a transparent mask.
+#[test]
+fn dispersion_emission_and_alpha() {
+    let glass = triangle_gltf(
+        r#"[{"name": "flint", "extensions": {"KHR_materials_ior": {"ior": 1.62}, "KHR_materials_transmission": {"transmissionFactor": 1},
+             "KHR_materials_dispersion": {"dispersion": 0.5}}, "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0}}]"#,
+        r#""KHR_materials_ior", "KHR_materials_transmission", "KHR_materials_dispersion""#,
+    );
+    let job = load_text("dispersion", &glass);
+    let prism::bsdf::Material::Dielectric { ior, .. } = &job.scene.materials[0] else {
+        panic!("{:?}", job.scene.materials[0])
+    };
+    assert!(ior.dispersive());
+    assert!(
+        (ior.int.abbe_number() - 40.0).abs() < 0.01,
+        "{}",
+        ior.int.abbe_number()
+    );
+    assert!((ior.int.eval_one(587.56) - 1.62).abs() < 1e-5);
+    assert!(job.scene.materials[0].dispersive());
+
+    let lamp = triangle_gltf(
+        r#"[{"emissiveFactor": [1, 0.5, 0.2], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}}]"#,
+        r#""KHR_materials_emissive_strength""#,
+    );
+    let job = load_text("emission", &lamp);
+    assert_eq!(
+        job.scene.emitters.len(),
+        1,
+        "one area light, no default environment"
+    );
+    assert_eq!(job.scene.shape_emitter, vec![Some(0)]);
+    assert!(matches!(
+        job.scene.emitters[0],
+        prism::emitter::Emitter::Area(_)
+    ));
+
+    let cut = triangle_gltf(
+        r#"[{"alphaMode": "MASK", "alphaCutoff": 0.5, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.3]}}]"#,
+        "",
+    );
+    let job = load_text("mask", &cut);
+    let prism::bsdf::Material::Mask { opacity, .. } = &job.scene.materials[0] else {
+        panic!()
+    };
+    assert_eq!(*opacity, prism::texture::FloatTexture::Constant(0.0));
+    let blend = triangle_gltf(
+        r#"[{"alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.3]}}]"#,
+        "",
+    );
+    let job = load_text("blend", &blend);
+    let prism::bsdf::Material::Mask { opacity, .. } = &job.scene.materials[0] else {
+        panic!()
+    };
+    assert_eq!(*opacity, prism::texture::FloatTexture::Constant(0.3));
+}
+
+/// A unit quad in z = 0 (normal +z, glTF's uv layout: u along +x, v down the image = along −y)
+/// with a 1×1 normal texture holding tangent-space normal `n`, optionally with TANGENTs.
+fn normal_mapped_quad(dir: &Path, n: Vec3, tangents: bool) -> PathBuf {
+    let texel = n
+        .normalize()
+        .to_array()
+        .map(|c| ((c + 1.0) * 0.5 * 255.0).round() as u8);
+    image::RgbImage::from_raw(1, 1, texel.to_vec())
+        .unwrap()
+        .save(dir.join("n.png"))
+        .unwrap();
+    let corners = [
+        [0.0f32, 0.0],
+        [1.0, 0.0],
+        [1.0, 1.0],
+        [1.0, 1.0],
+        [0.0, 1.0],
+        [0.0, 0.0],
+    ];
+    let mut bytes = Vec::new();
+    let mut push = |v: &[f32]| {
+        v.iter()
+            .for_each(|x| bytes.extend_from_slice(&x.to_le_bytes()))
+    };
+    for c in corners {
+        push(&[c[0], c[1], 0.0]);
+    }
+    for _ in corners {
+        push(&[0.0, 0.0, 1.0]);
+    }
+    for c in corners {
+        push(&[c[0], 1.0 - c[1]]);
+    }
+    if tangents {
+        for _ in corners {
+            push(&[1.0, 0.0, 0.0, 1.0]);
+        }
+    }
+    let len = bytes.len();
+    let tangent_attr = if tangents { r#", "TANGENT": 3"# } else { "" };
+    let tangent_acc = if tangents {
+        r#", {"bufferView": 3, "componentType": 5126, "count": 6, "type": "VEC4"}"#
+    } else {
+        ""
+    };
+    let tangent_view = if tangents {
+        r#", {"buffer": 0, "byteOffset": 192, "byteLength": 96}"#
+    } else {
+        ""
+    };
+    let text = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0, "name": "quad"}}],
+        "materials": [{{"normalTexture": {{"index": 0}}, "pbrMetallicRoughness": {{"metallicFactor": 0}}}}],
+        "textures": [{{"source": 0}}], "images": [{{"uri": "n.png"}}],
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2{tangent_attr}}}, "material": 0}}]}}],
+        "buffers": [{{"byteLength": {len}, "uri": "data:application/octet-stream;base64,{}"}}],
+        "bufferViews": [{{"buffer": 0, "byteLength": 72}}, {{"buffer": 0, "byteOffset": 72, "byteLength": 72}},
+                        {{"buffer": 0, "byteOffset": 144, "byteLength": 48}}{tangent_view}],
+        "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 6, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+                      {{"bufferView": 1, "componentType": 5126, "count": 6, "type": "VEC3"}},
+                      {{"bufferView": 2, "componentType": 5126, "count": 6, "type": "VEC2"}}{tangent_acc}]}}"#,
+        base64(&bytes)
+    );
+    let file = dir.join(format!("quad{}.gltf", if tangents { "_t" } else { "" }));
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
+/// Normal maps: the shading normal at a hit is the texture's tangent-space normal in the frame
+/// (tangent = +u, bitangent = normal × tangent · w, normal); glTF's +Y of a normal texture is up
+/// the image (here world +y). With the file's TANGENTs and with MikkTSpace's (none in the file)
+/// alike. Tolerance 0.01: the texel is 8-bit.
+#[test]
+fn normal_maps_tilt_the_shading_normal() {
+    for (k, tangents) in [false, true].into_iter().enumerate() {
+        for (m, expect) in [
+            (Vec3::new(0.5, 0.0, 0.866), Vec3::new(0.5, 0.0, 0.866)),
+            (Vec3::new(0.0, 0.5, 0.866), Vec3::new(0.0, 0.5, 0.866)),
+            (Vec3::new(-0.3, -0.4, 0.866), Vec3::new(-0.3, -0.4, 0.866)),
+        ] {
+            let dir = workdir(&format!("nmap{k}{}", m.x));
+            let file = normal_mapped_quad(&dir, m, tangents);
+            let job = prism::scene::load(&file, small).unwrap();
+            assert!(job.warnings.is_empty(), "{:?}", job.warnings);
+            let s = &job.scene;
+            for p in [glam::Vec2::new(0.3, 0.2), glam::Vec2::new(0.8, 0.7)] {
+                let ray = prism::ray::Ray {
+                    o: Vec3::new(p.x, p.y, 1.0),
+                    d: -Vec3::Z,
+                    t_max: 10.0,
+                };
+                let si = s.intersect(&ray).expect("the quad is hit");
+                let n = si.frame.n;
+                assert!(
+                    (n - expect.normalize()).length() < 0.01,
+                    "tangents in file: {tangents}, map {m}: shading normal {n}"
+                );
+                assert!((si.ng - Vec3::Z).length() < 1e-6);
+            }
+        }
+    }
+}

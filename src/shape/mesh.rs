@@ -12,6 +12,8 @@ pub struct Mesh {
     /// Per-vertex texture coordinates; empty if the mesh has none.
     pub uvs: Vec<Vec2>,
     pub indices: Vec<[u32; 3]>,
+    /// A normal map with its tangents (glTF `normalTexture`); None for most meshes.
+    pub normal_map: Option<Box<super::normal_map::NormalMapping>>,
 }
 
 /// Surface data at a point of a triangle.
@@ -41,6 +43,7 @@ impl Mesh {
                 Vec2::new(0.0, 1.0),
             ],
             indices: vec![[0, 1, 2], [2, 3, 0]],
+            normal_map: None,
         }
     }
 
@@ -156,11 +159,15 @@ impl Mesh {
                 n
             }
         };
+        let frame = match &self.normal_map {
+            None => Frame::from_normal_tangent(ns, dpdu),
+            Some(nm) => nm.frame([i0, i1, i2], [b0, b1, b2], ns, uv),
+        };
         TriangleSurface {
             p,
             p_error,
             ng,
-            frame: Frame::from_normal_tangent(ns, dpdu),
+            frame,
             uv,
         }
     }

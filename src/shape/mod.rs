@@ -3,6 +3,7 @@
 
 pub mod mesh;
 pub mod mesh_io;
+pub mod normal_map;
 pub mod triangle;
 
 use crate::math::float::gamma;

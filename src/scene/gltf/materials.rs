@@ -13,15 +13,19 @@ use crate::error::InputError;
 use crate::scene::principled::{f0_from_ior, rgb_factor};
 use crate::spectrum::{rgb2spec, Curve, Ior, RelativeIor};
 use crate::texture::{srgb_decode, FloatTexture, Grid, SpectralTexture, TexFilter, UvMap, Wrap};
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// Builds each glTF material once, on first use.
 pub struct GltfMaterials<'a> {
     model: &'a Model,
-    built: HashMap<Option<usize>, (usize, Option<Curve>)>,
+    built: HashMap<Option<usize>, Built>,
     materials: Vec<Material>,
 }
+
+/// A built material: its index, its emission and its normal map.
+pub type Built = (usize, Option<Curve>, Option<Arc<Grid<Vec3>>>);
 
 /// An image's texels as RGBA floats in [0, 1] (8- and 16-bit channels; missing ones: G = B = R
 /// for grey images, A = 1).
@@ -144,20 +148,44 @@ impl<'a> GltfMaterials<'a> {
         &mut self,
         m: &gltf::Material,
         warnings: &mut Vec<String>,
-    ) -> Result<(usize, Option<Curve>), InputError> {
+    ) -> Result<Built, InputError> {
         let index = m.index();
         if let Some(r) = self.built.get(&index) {
             return Ok(r.clone());
         }
         let (mat, emission) = self.build(m, warnings)?;
         self.materials.push(mat);
-        let r = (self.materials.len() - 1, emission);
+        let r = (self.materials.len() - 1, emission, self.normal_map(m));
         self.built.insert(index, r.clone());
         Ok(r)
     }
 
     pub fn into_materials(self) -> Vec<Material> {
         self.materials
+    }
+
+    /// The tangent-space normals of the material's `normalTexture` (x and y times its `scale`;
+    /// 8-bit values v map to 2v − 1).
+    fn normal_map(&self, m: &gltf::Material) -> Option<Arc<Grid<Vec3>>> {
+        let nt = m.normal_texture()?;
+        let tex = nt.texture();
+        let img = self.image(&tex);
+        let s = nt.scale();
+        let texels = rgba(img)
+            .iter()
+            .map(|p| {
+                Vec3::new(
+                    (2.0 * p[0] - 1.0) * s,
+                    (2.0 * p[1] - 1.0) * s,
+                    2.0 * p[2] - 1.0,
+                )
+            })
+            .collect();
+        let map = UvMap {
+            scale: Vec2::ONE,
+            offset: Vec2::ZERO,
+        };
+        Some(Arc::new(grid(img, texels, &tex, map)))
     }
 
     fn image(&self, tex: &gltf::Texture) -> &gltf::image::Data {
@@ -262,12 +290,6 @@ impl<'a> GltfMaterials<'a> {
         };
         if m.volume().is_some_and(|v| v.thickness_factor() > 0.0) && transmission > 0.0 {
             warn.push(format!("{}: {label}: KHR_materials_volume is rendered thin-walled (no refraction or attenuation) unless the material has KHR_materials_dispersion", self.model.path.display()));
-        }
-        if m.normal_texture().is_some() {
-            warn.push(format!(
-                "{}: {label}: normalTexture is not supported yet and is ignored",
-                self.model.path.display()
-            ));
         }
         if m.emissive_texture().is_some() {
             warn.push(format!("{}: {label}: emissiveTexture is not supported; emissiveFactor is used as a uniform emission", self.model.path.display()));

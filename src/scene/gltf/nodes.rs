@@ -8,6 +8,7 @@ use crate::bsdf::Material;
 use crate::config::{spectrum_ctx, EmitterConfig, Role, ShapeConfig, ShapeKind};
 use crate::error::InputError;
 use crate::math::Transform;
+use crate::shape::normal_map::{mikktspace_tangents, NormalMapping};
 use crate::shape::{Mesh, Shape};
 use crate::spectrum::Curve;
 use glam::{Mat4, Vec2, Vec3};
@@ -212,6 +213,7 @@ fn read_primitive(
         normals,
         uvs,
         indices: tris,
+        normal_map: None,
     };
     if mesh.indices.is_empty() {
         warnings.push(format!(
@@ -351,8 +353,8 @@ pub fn expand(
                 .and_then(|m| m.name())
                 .and_then(|n| by_name.get(n).copied())
         });
-        let (material, emission) = match over {
-            Some(k) => (MatRef::Scene(k), None),
+        let (material, emission, normal_map) = match over {
+            Some(k) => (MatRef::Scene(k), None, None),
             None => {
                 let gm = model.doc.meshes().nth(p.source.0).expect("walked mesh");
                 let gm = gm
@@ -360,13 +362,30 @@ pub fn expand(
                     .nth(p.source.1)
                     .expect("walked primitive")
                     .material();
-                let (k, emission) = mats.get(&gm, warnings)?;
-                (MatRef::New(k), emission)
+                let (k, emission, normal_map) = mats.get(&gm, warnings)?;
+                (MatRef::New(k), emission, normal_map)
             }
         };
         let mut mesh = p.mesh;
         if sc.flip_normals {
             mesh = mesh.transformed(&Transform::IDENTITY, true);
+        }
+        if let Some(map) = normal_map {
+            let tangents = if !p.tangents.is_empty() {
+                Some(p.tangents.iter().map(|t| glam::Vec4::from(*t)).collect())
+            } else if !mesh.normals.is_empty() && !mesh.uvs.is_empty() {
+                mikktspace_tangents(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices)
+            } else {
+                None
+            };
+            match tangents {
+                Some(tangents) => mesh.normal_map = Some(Box::new(NormalMapping { tangents, map })),
+                None => warnings.push(format!(
+                    "{}: {}: the normal map needs NORMAL and TEXCOORD_0 (or TANGENT) on the mesh; it is ignored",
+                    full.display(),
+                    p.name
+                )),
+            }
         }
         out.shapes.push(ExpandedShape {
             shape: Shape::Mesh(mesh),
