@@ -627,3 +627,60 @@ fn normal_maps_tilt_the_shading_normal() {
         }
     }
 }
+
+/// A binary glTF (.glb: header, JSON chunk, BIN chunk holding the buffer) renders directly,
+/// with the same triangle as the same file written as .gltf with a data URI; a truncated GLB
+/// is refused with exit code 2.
+#[test]
+fn glb_container() {
+    let mut bin = Vec::new();
+    for v in [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        bin.extend_from_slice(&v.to_le_bytes());
+    }
+    let mut json = br#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "name": "tri"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], "buffers": [{"byteLength": 36}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}]}"#
+        .to_vec();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut glb = Vec::new();
+    glb.extend_from_slice(b"glTF");
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&(total as u32).to_le_bytes());
+    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&json);
+    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"BIN\0");
+    glb.extend_from_slice(&bin);
+    let dir = workdir("glb");
+    let file = dir.join("tri.glb");
+    std::fs::write(&file, &glb).unwrap();
+    let job = prism::scene::load(&file, small).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(job.scene.primitive_count(), 1);
+    assert_eq!(job.scene.shape_name, vec![Some("tri".to_string())]);
+    let text = load_text("glb_as_gltf", &triangle_gltf("[{}]", ""));
+    let prism::shape::Shape::Mesh(a) = &job.scene.shapes[0] else {
+        panic!()
+    };
+    let prism::shape::Shape::Mesh(b) = &text.scene.shapes[0] else {
+        panic!()
+    };
+    assert_eq!(a.positions, b.positions);
+    assert!(render(&job).iter().all(|v| v.is_finite()));
+    std::fs::write(dir.join("cut.glb"), &glb[..glb.len() - 10]).unwrap();
+    let out = dir.join("cut.exr");
+    let (code, err) = prism_cli(&[
+        "render",
+        dir.join("cut.glb").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(!out.exists());
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cut.glb") && err.contains("GLB"), "{err}");
+}
