@@ -684,3 +684,73 @@ fn glb_container() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("cut.glb") && err.contains("GLB"), "{err}");
 }
+
+/// Textures: BoxTextured's base colour image (211 × 211, REPEAT, LINEAR magnification) is
+/// uplifted texel by texel; a texture's KHR_texture_transform offset and scale become its uv
+/// map; metallic and roughness come from the B and G channels times their factors.
+#[test]
+fn textures_and_texture_transform() {
+    let job = prism::scene::load(&model("BoxTextured"), small).unwrap();
+    let prism::bsdf::Material::Principled(p) = &job.scene.materials[0] else {
+        panic!()
+    };
+    let prism::texture::SpectralTexture::Bitmap(g) = &p.base_color else {
+        panic!("{:?}", p.base_color)
+    };
+    assert_eq!((g.width, g.height), (211, 211));
+    assert_eq!(
+        (g.wrap, g.filter),
+        (
+            prism::texture::Wrap::Repeat,
+            prism::texture::TexFilter::Bilinear
+        )
+    );
+
+    let dir = workdir("texxform");
+    // 2×1 texels: (R, G = roughness, B = metalness).
+    image::RgbImage::from_raw(2, 1, vec![0, 255, 128, 0, 51, 255])
+        .unwrap()
+        .save(dir.join("mr.png"))
+        .unwrap();
+    let text = triangle_gltf(
+        r#"[{"pbrMetallicRoughness": {"metallicFactor": 0.5, "roughnessFactor": 0.8, "metallicRoughnessTexture": {"index": 0,
+             "extensions": {"KHR_texture_transform": {"offset": [0.25, 0.5], "scale": [2, 3]}}}}}]"#,
+        r#""KHR_texture_transform""#,
+    )
+    .replacen(
+        r#""materials":"#,
+        r#""textures": [{"source": 0, "sampler": 0}], "samplers": [{"magFilter": 9728, "wrapS": 33071}], "images": [{"uri": "mr.png"}], "materials":"#,
+        1,
+    );
+    let file = dir.join("t.gltf");
+    std::fs::write(&file, text).unwrap();
+    let job = prism::scene::load(&file, small).unwrap();
+    let prism::bsdf::Material::Principled(p) = &job.scene.materials[0] else {
+        panic!()
+    };
+    let (prism::texture::FloatTexture::Bitmap(m), prism::texture::FloatTexture::Bitmap(r)) =
+        (&p.metallic, &p.roughness)
+    else {
+        panic!()
+    };
+    assert_eq!(m.map.offset, glam::Vec2::new(0.25, 0.5));
+    assert_eq!(m.map.scale, glam::Vec2::new(2.0, 3.0));
+    assert_eq!(
+        (m.wrap, m.filter),
+        (
+            prism::texture::Wrap::Clamp,
+            prism::texture::TexFilter::Nearest
+        )
+    );
+    let close = |a: f32, b: f32| (a - b).abs() < 1e-6;
+    assert!(
+        close(m.texels[0], 0.5 * 128.0 / 255.0) && close(m.texels[1], 0.5),
+        "{:?}",
+        m.texels
+    );
+    assert!(
+        close(r.texels[0], 0.8) && close(r.texels[1], 0.8 * 51.0 / 255.0),
+        "{:?}",
+        r.texels
+    );
+}
