@@ -22,6 +22,7 @@ pub fn parse_str(text: &str, file: &Path) -> Result<SceneConfig, InputError> {
 
 /// Reads and parses a scene file.
 pub fn parse_file(path: &Path) -> Result<SceneConfig, Error> {
+    crate::scene::inputs::record(path);
     let text = std::fs::read_to_string(path).map_err(|e| {
         InputError::new(path, format!("cannot read the scene file: {e}")).hint("check the path")
     })?;

@@ -256,6 +256,7 @@ impl SpectrumConfig {
             }
             SpectrumConfig::File { path, column } => {
                 let full = ctx.file.parent().unwrap_or(Path::new(".")).join(path);
+                crate::scene::inputs::record(&full);
                 let text = std::fs::read_to_string(&full).map_err(|e| {
                     ctx.err(format!(
                         "cannot read spectrum file `{}`: {e}",

@@ -5,6 +5,7 @@
 mod build;
 mod emitters;
 mod geometry;
+pub mod inputs;
 mod materials;
 
 use crate::accel::{Accel, AccelKind, Prim};

@@ -9,6 +9,7 @@ use std::path::Path;
 
 /// Loads an OBJ or PLY file by its extension.
 pub fn load(path: &Path) -> Result<Mesh, String> {
+    crate::scene::inputs::record(path);
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
