@@ -9,7 +9,8 @@ use prism::interaction::SurfaceInteraction;
 use prism::math::Frame;
 use prism::spectrum::{WavelengthSampler, WavelengthSampling};
 use prism::texture::{FloatTexture, Grid, TexFilter, UvMap, Wrap};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 fn material(cfg: &str) -> Material {
     let text = format!(
@@ -91,4 +92,512 @@ fn nan_mask_opacity_and_blend_weight_do_not_panic() {
         let f = b.eval(wi, Vec3::new(-0.2, 0.1, 0.97).normalize());
         assert!(f.0.iter().all(|v| v.is_finite()), "{name}: eval {f:?}");
     }
+}
+
+// ---- The binary: outputs that would destroy an input, late failures, exit codes. ----
+
+fn prism() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_prism"))
+}
+
+fn workdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("prism-rel-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+const GOOD: &str = r#"(
+    film: (width: 16, height: 12),
+    sampler: (spp: 2),
+    materials: { "grey": Diffuse(reflectance: Constant(0.5)) },
+    shapes: [(shape: Sphere(center: (0, 0, 4)), material: "grey")],
+    emitters: [Constant(radiance: Named("D65"))],
+)"#;
+
+/// The test data's 16×8 grey envmap, a PNG texture and a spectrum file, next to a scene that
+/// reads all three; returns the scene's path.
+fn scene_with_inputs(dir: &Path) -> PathBuf {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    std::fs::copy(data.join("envmap_grey_16x8.exr"), dir.join("sky.exr")).unwrap();
+    image::RgbImage::from_pixel(2, 2, image::Rgb([128, 128, 128]))
+        .save(dir.join("tex.png"))
+        .unwrap();
+    std::fs::write(dir.join("refl.exr"), "# nm value\n300 0.5\n900 0.5\n").unwrap();
+    let scene = dir.join("scene.ron");
+    std::fs::write(
+        &scene,
+        r#"(
+    film: (width: 8, height: 6),
+    sampler: (spp: 1),
+    materials: {
+        "tex": Diffuse(reflectance: Bitmap(path: "tex.png")),
+        "file": Diffuse(reflectance: File(path: "refl.exr")),
+    },
+    shapes: [
+        (shape: Sphere(center: (-1, 0, 4)), material: "tex"),
+        (shape: Sphere(center: (1, 0, 4)), material: "file"),
+    ],
+    emitters: [Envmap(filename: "sky.exr")],
+)"#,
+    )
+    .unwrap();
+    scene
+}
+
+/// Runs prism in `dir`; returns (exit code, stderr).
+fn run_in(dir: &Path, args: &[&str]) -> (i32, String) {
+    let o = prism().current_dir(dir).args(args).output().unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn assert_refused(dir: &Path, args: &[&str], needles: &[&str]) {
+    let (code, err) = run_in(dir, args);
+    assert_eq!(code, 2, "{args:?}: exit code {code}, stderr:\n{err}");
+    assert!(err.starts_with("error: "), "{args:?}: {err}");
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+    // Refused before rendering: no summary line.
+    assert!(
+        !err.contains("rendered "),
+        "{args:?}: rendered first:\n{err}"
+    );
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: stderr lacks `{n}`:\n{err}");
+    }
+}
+
+/// Every file in `dir` with its bytes (to show nothing was changed or left behind).
+fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_type().unwrap().is_file())
+        .map(|e| {
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                std::fs::read(e.path()).unwrap(),
+            )
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// Issue 14 item 2: an output that is an input of the scene, or the other output, or has the
+/// wrong extension, is refused (exit 2, naming the path and the flag) and nothing changes.
+#[test]
+fn outputs_never_overwrite_inputs() {
+    let dir = workdir("inputs");
+    scene_with_inputs(&dir);
+    // A scene file with an .exr name, and a hard link to the envmap: found by file identity.
+    std::fs::copy(dir.join("scene.ron"), dir.join("scene.exr")).unwrap();
+    std::fs::hard_link(dir.join("sky.exr"), dir.join("alias.exr")).unwrap();
+    let before = snapshot(&dir);
+    let cases: &[(&[&str], &[&str])] = &[
+        (
+            &["render", "scene.exr", "-o", "scene.exr"],
+            &["scene.exr: -o", "the scene file being rendered"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "sky.exr"],
+            &["sky.exr: -o", "a file this scene reads"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "./sky.exr"],
+            &["a file this scene reads"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "alias.exr"],
+            &["alias.exr: -o", "a file this scene reads"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "refl.exr"],
+            &["refl.exr: -o", "a file this scene reads"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "o.exr", "--preview", "tex.png"],
+            &["tex.png: --preview", "a file this scene reads"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "scene.ron"],
+            &["scene.ron: -o", "does not end in `.exr`"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "out.png"],
+            &["out.png: -o", "does not end in `.exr`"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "o.exr", "--preview", "o.exr"],
+            &["--preview", "would overwrite the EXR output"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "o.exr", "--preview", "./o.exr"],
+            &["--preview", "would overwrite the EXR output"],
+        ),
+        (
+            &["render", "scene.ron", "-o", "o.exr", "--preview", "p.jpg"],
+            &["p.jpg: --preview", "does not end in `.png`"],
+        ),
+    ];
+    for (args, needles) in cases {
+        assert_refused(&dir, args, needles);
+    }
+    // The default output (the scene's name with .exr, here) is checked too.
+    std::fs::copy(dir.join("scene.ron"), dir.join("sky.ron")).unwrap();
+    assert_refused(
+        &dir,
+        &["render", "sky.ron"],
+        &["sky.exr: -o", "a file this scene reads"],
+    );
+    std::fs::remove_file(dir.join("sky.ron")).unwrap();
+    assert_eq!(snapshot(&dir), before, "a file changed or was left behind");
+    // And the renders that are fine still work.
+    let (code, err) = run_in(
+        &dir,
+        &["render", "scene.ron", "-o", "o.exr", "--preview", "o.png"],
+    );
+    assert_eq!(code, 0, "{err}");
+}
+
+/// Issue 14 item 2, export: a mesh the scene reads at `DIR/meshes/0000.ply` is not overwritten.
+#[test]
+fn export_never_overwrites_a_mesh_it_reads() {
+    let dir = workdir("export-inputs");
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    std::fs::write(dir.join("meshes/0000.ply"), ply).unwrap();
+    std::fs::write(
+        dir.join("mesh.ron"),
+        r#"(film: (width: 4, height: 4), materials: { "m": Diffuse() }, shapes: [(shape: Mesh(path: "meshes/0000.ply"), material: "m")])"#,
+    )
+    .unwrap();
+    assert_refused(
+        &dir,
+        &["export", "mesh.ron", "-o", "."],
+        &["0000.ply: -o", "a file this scene reads"],
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("meshes/0000.ply")).unwrap(),
+        ply
+    );
+    assert!(!dir.join("scene.json").exists());
+    let (code, err) = run_in(&dir, &["export", "mesh.ron", "-o", "out"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("out/meshes/0000.ply").exists());
+}
+
+/// A path in a directory this process cannot write: a read-only directory, or (running as
+/// root, which may write anywhere) one under /proc.
+fn unwritable_dir(dir: &Path) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let ro = dir.join("ro");
+    std::fs::create_dir_all(&ro).unwrap();
+    std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+    if std::fs::write(ro.join("probe"), b"").is_ok() {
+        let _ = std::fs::remove_file(ro.join("probe"));
+        return PathBuf::from("/proc/prism-test");
+    }
+    ro
+}
+
+/// Issue 14 item 3: unusable output paths are found before rendering (the summary line never
+/// appears, no EXR is written), with the path, the flag and a fix; exit 2.
+#[test]
+fn output_paths_are_checked_before_rendering() {
+    let dir = workdir("late");
+    std::fs::write(dir.join("scene.ron"), GOOD).unwrap();
+    std::fs::create_dir_all(dir.join("d.exr")).unwrap();
+    std::fs::write(dir.join("file"), b"x").unwrap();
+    let ro = unwritable_dir(&dir);
+    let ro_exr = ro.join("x.exr");
+    let ro_png = ro.join("x.png");
+    let ro_exr = ro_exr.to_str().unwrap();
+    let ro_png = ro_png.to_str().unwrap();
+    let cases: &[(&[&str], &[&str])] = &[
+        (&["-o", "d.exr"], &["d.exr: -o", "is a directory"]),
+        (
+            &["-o", "file/x.exr"],
+            &["file/x.exr: -o", "lies under `file`, which is a file"],
+        ),
+        (
+            &["-o", "file/sub/x.exr"],
+            &["lies under `file`, which is a file"],
+        ),
+        (&["-o", ro_exr], &["x.exr: -o", "hint: choose a writable"]),
+        (
+            &["-o", "o.exr", "--preview", ro_png],
+            &["x.png: --preview", "hint: choose a writable"],
+        ),
+        (
+            &["-o", "o.exr", "--preview", "d.exr/../file/p.png"],
+            &["--preview"],
+        ),
+        (
+            &["-o", "o.exr", "--threads", "0"],
+            &["--threads must be at least 1"],
+        ),
+    ];
+    for (extra, needles) in cases {
+        let args: Vec<&str> = ["render", "scene.ron"]
+            .iter()
+            .chain(extra.iter())
+            .copied()
+            .collect();
+        assert_refused(&dir, &args, needles);
+        assert!(!dir.join("o.exr").exists(), "{args:?} wrote the EXR");
+    }
+    // A missing directory is created, as before.
+    let (code, err) = run_in(
+        &dir,
+        &[
+            "render",
+            "scene.ron",
+            "-o",
+            "new/sub/o.exr",
+            "--preview",
+            "new/p.png",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(dir.join("new/sub/o.exr").exists() && dir.join("new/p.png").exists());
+    // Export into a regular file, or a directory it cannot write: exit 2 as well.
+    assert_refused(
+        &dir,
+        &["export", "scene.ron", "-o", "file"],
+        &["-o", "which is a file"],
+    );
+    if ro.starts_with(&dir) {
+        assert_refused(
+            &dir,
+            &["export", "scene.ron", "-o", ro.to_str().unwrap()],
+            &["-o", "hint: choose a writable"],
+        );
+    }
+}
+
+/// Issue 14 item 3: a scene whose file name is not ASCII renders; the `prism:scene` header
+/// attribute holds the name's UTF-8 bytes.
+#[test]
+fn non_ascii_scene_name_renders() {
+    let dir = workdir("utf8");
+    std::fs::write(dir.join("場景.ron"), GOOD).unwrap();
+    let (code, err) = run_in(&dir, &["render", "場景.ron", "-q"]);
+    assert_eq!(code, 0, "{err}");
+    let meta = exr::meta::MetaData::read_from_file(dir.join("場景.exr"), false).unwrap();
+    let h = &meta.headers[0];
+    let value = h
+        .shared_attributes
+        .other
+        .iter()
+        .chain(h.own_attributes.other.iter())
+        .find(|(k, _)| k.bytes() == b"prism:scene")
+        .map(|(_, v)| v.clone());
+    match value {
+        Some(exr::meta::attribute::AttributeValue::Text(t)) => {
+            assert_eq!(t.bytes(), "場景.ron".as_bytes())
+        }
+        other => panic!("prism:scene is {other:?}"),
+    }
+}
+
+// ---- Interrupted and killed runs. ----
+
+/// A render that runs for a while (64×64 at 3000 spp), printing progress every 10%.
+const LONG: &str = r#"(
+    film: (width: 64, height: 64),
+    sampler: (spp: 3000),
+    materials: { "grey": Diffuse(reflectance: Constant(0.5)) },
+    shapes: [(shape: Sphere(center: (0, 0, 4)), material: "grey")],
+    emitters: [Constant(radiance: Named("D65"))],
+)"#;
+
+/// A render that is quick but writes a large EXR (512×512, 22 channels: ~23 MB of floats).
+const BIG_WRITE: &str = r#"(
+    film: (width: 512, height: 512),
+    sampler: (spp: 1),
+    outputs: (bands: 16),
+    materials: { "grey": Diffuse(reflectance: Constant(0.5)) },
+    shapes: [(shape: Sphere(center: (0, 0, 4)), material: "grey")],
+    emitters: [Constant(radiance: Named("D65"))],
+)"#;
+
+const OLD: &[u8] = b"the previous render, which must survive";
+
+/// A running prism and its stderr lines.
+struct Run {
+    child: std::process::Child,
+    lines: std::sync::mpsc::Receiver<String>,
+}
+
+fn spawn(dir: &Path, scene: &str) -> Run {
+    std::fs::write(dir.join("scene.ron"), scene).unwrap();
+    let mut child = prism()
+        .current_dir(dir)
+        .args(["render", "scene.ron", "-o", "out.exr"])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let err = child.stderr.take().unwrap();
+    let (tx, lines) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        use std::io::BufRead;
+        for l in std::io::BufReader::new(err).lines().map_while(Result::ok) {
+            let _ = tx.send(l);
+        }
+    });
+    Run { child, lines }
+}
+
+impl Run {
+    /// Waits for a stderr line containing `needle` (at most 60 s).
+    fn wait_line(&self, needle: &str) {
+        let end = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        while let Ok(l) = self.lines.recv_timeout(end - std::time::Instant::now()) {
+            if l.contains(needle) {
+                return;
+            }
+        }
+        panic!("no `{needle}` on stderr");
+    }
+
+    /// Waits until the temporary EXR has bytes in it (the write has begun), polling each ms.
+    fn wait_writing(&mut self, dir: &Path) {
+        let tmp = dir.join(format!(".out.exr.{}.tmp.exr", self.child.id()));
+        for _ in 0..60_000 {
+            if std::fs::metadata(&tmp).is_ok_and(|m| m.len() > 0) {
+                return;
+            }
+            assert!(
+                self.child.try_wait().unwrap().is_none(),
+                "prism ended first"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        panic!("the EXR write never began");
+    }
+
+    fn signal(&self, sig: i32) {
+        // SAFETY: sends a signal to our own child, which has not been waited for yet.
+        assert_eq!(unsafe { libc::kill(self.child.id() as i32, sig) }, 0);
+    }
+
+    /// Waits for the exit (at most 10 s); returns (code, signal, the rest of stderr).
+    fn finish(mut self) -> (Option<i32>, Option<i32>, String) {
+        use std::os::unix::process::ExitStatusExt;
+        let t = std::time::Instant::now();
+        let status = loop {
+            if let Some(s) = self.child.try_wait().unwrap() {
+                break s;
+            }
+            assert!(t.elapsed().as_secs() < 10, "prism did not exit");
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        };
+        let rest: Vec<String> = self.lines.iter().collect();
+        (status.code(), status.signal(), rest.join("\n"))
+    }
+}
+
+fn temporaries(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".tmp."))
+        .collect()
+}
+
+/// Issue 14 item 4: SIGINT (Ctrl-C) or SIGTERM while rendering or while writing the EXR: prompt
+/// exit with a message and 128 + the signal (130, 143), no temporary left, the old EXR intact.
+#[test]
+fn interrupt_leaves_no_temporary_and_keeps_the_old_output() {
+    for (when, sig, code) in [
+        ("render", libc::SIGINT, 130),
+        ("render", libc::SIGTERM, 143),
+        ("write", libc::SIGINT, 130),
+    ] {
+        let dir = workdir(&format!("int-{when}-{sig}"));
+        std::fs::write(dir.join("out.exr"), OLD).unwrap();
+        let mut run = spawn(&dir, if when == "render" { LONG } else { BIG_WRITE });
+        if when == "render" {
+            run.wait_line("progress:");
+        } else {
+            run.wait_writing(&dir);
+        }
+        let t = std::time::Instant::now();
+        run.signal(sig);
+        let (c, _, err) = run.finish();
+        assert!(t.elapsed().as_secs_f64() < 3.0, "{when}: slow exit");
+        assert_eq!(c, Some(code), "{when} {sig}: {err}");
+        assert!(err.contains("error: interrupted by SIG"), "{err}");
+        assert_eq!(std::fs::read(dir.join("out.exr")).unwrap(), OLD, "{when}");
+        assert_eq!(temporaries(&dir), Vec::<String>::new(), "{when} {sig}");
+    }
+}
+
+/// Issue 14 items 4 and 9: SIGKILL (which no process can handle) at fixed moments: while
+/// rendering, just as the EXR write begins, and 30 ms into it. The old EXR is byte-identical
+/// each time; the temporary a killed write leaves is swept by the next run in that directory,
+/// which leaves other files, and the temporaries of live processes, alone.
+#[test]
+fn kill_keeps_the_old_output_and_the_next_run_sweeps() {
+    let dir = workdir("kill");
+    std::fs::write(dir.join("out.exr"), OLD).unwrap();
+    let mut killed_writing = 0;
+    for moment in ["render", "write", "write+30ms"] {
+        let mut run = spawn(&dir, if moment == "render" { LONG } else { BIG_WRITE });
+        if moment == "render" {
+            run.wait_line("progress:");
+        } else {
+            run.wait_writing(&dir);
+            if moment == "write+30ms" {
+                std::thread::sleep(std::time::Duration::from_millis(30));
+            }
+        }
+        run.signal(libc::SIGKILL);
+        let pid = run.child.id();
+        let (c, s, _) = run.finish();
+        if c == Some(0) {
+            // The write finished within 30 ms (a fast machine): the new EXR replaced the old
+            // one whole, as a rename does; put the old one back for the next moment.
+            std::fs::write(dir.join("out.exr"), OLD).unwrap();
+            continue;
+        }
+        assert_eq!(s, Some(libc::SIGKILL), "{moment}");
+        assert_eq!(std::fs::read(dir.join("out.exr")).unwrap(), OLD, "{moment}");
+        if moment != "render" {
+            assert_eq!(temporaries(&dir), [format!(".out.exr.{pid}.tmp.exr")]);
+            killed_writing += 1;
+        }
+    }
+    assert!(killed_writing >= 1, "no kill landed during a write");
+    // Not ours to remove: a live process's temporary (this test's pid) and other files.
+    let live = format!(".other.exr.{}.tmp.exr", std::process::id());
+    for keep in [live.as_str(), ".notes.tmp.txt", "a.exr.1.tmp.exr"] {
+        std::fs::write(dir.join(keep), b"keep").unwrap();
+    }
+    std::fs::write(dir.join("scene.ron"), GOOD).unwrap();
+    let (code, err) = run_in(&dir, &["render", "scene.ron", "-o", "next.exr", "-q"]);
+    assert_eq!(code, 0, "{err}");
+    let mut left = temporaries(&dir);
+    left.sort();
+    assert_eq!(left, [".notes.tmp.txt", live.as_str(), "a.exr.1.tmp.exr"]);
+    assert_eq!(std::fs::read(dir.join("out.exr")).unwrap(), OLD);
+}
+
+/// Issue 14 item 7: a preview of a film without RGB or XYZ is refused before rendering (exit 2;
+/// it was found after the render and exited 1).
+#[test]
+fn preview_without_colour_channels_is_refused_first() {
+    let dir = workdir("preview-channels");
+    let scene = GOOD.replace("sampler:", "outputs: (rgb: false, xyz: false, bands: 4), sampler:");
+    std::fs::write(dir.join("scene.ron"), scene).unwrap();
+    assert_refused(
+        &dir,
+        &["render", "scene.ron", "-o", "o.exr", "--preview", "o.png"],
+        &["o.png: --preview", "needs the rgb or xyz output"],
+    );
+    assert!(!dir.join("o.exr").exists());
 }
