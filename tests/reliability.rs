@@ -592,7 +592,10 @@ fn kill_keeps_the_old_output_and_the_next_run_sweeps() {
 #[test]
 fn preview_without_colour_channels_is_refused_first() {
     let dir = workdir("preview-channels");
-    let scene = GOOD.replace("sampler:", "outputs: (rgb: false, xyz: false, bands: 4), sampler:");
+    let scene = GOOD.replace(
+        "sampler:",
+        "outputs: (rgb: false, xyz: false, bands: 4), sampler:",
+    );
     std::fs::write(dir.join("scene.ron"), scene).unwrap();
     assert_refused(
         &dir,
@@ -600,4 +603,217 @@ fn preview_without_colour_channels_is_refused_first() {
         &["o.png: --preview", "needs the rgb or xyz output"],
     );
     assert!(!dir.join("o.exr").exists());
+}
+
+/// Renders `scene` (written to `dir/name`) expecting exit 2 and each of `needles` on stderr.
+fn assert_scene_refused(dir: &Path, name: &str, scene: &[u8], needles: &[&str]) {
+    std::fs::write(dir.join(name), scene).unwrap();
+    assert_refused(dir, &["render", name, "-o", "o.exr", "-q"], needles);
+}
+
+/// Issue 14 item 7: the real problem named. A UTF-8 byte order mark is accepted (skipped).
+#[test]
+fn parse_errors_name_the_real_problem() {
+    let dir = workdir("messages");
+    let mut bom = b"\xef\xbb\xbf".to_vec();
+    bom.extend_from_slice(GOOD.as_bytes());
+    std::fs::write(dir.join("bom.ron"), &bom).unwrap();
+    let (code, err) = run_in(&dir, &["render", "bom.ron", "-o", "bom.exr", "-q"]);
+    assert_eq!(code, 0, "a BOM is accepted: {err}");
+    let mut bad = GOOD.as_bytes().to_vec();
+    bad.insert(60, 0xff);
+    assert_scene_refused(
+        &dir,
+        "utf8.ron",
+        &bad,
+        &["utf8.ron: the file is not UTF-8 text: byte 60 (0xFF, on line 4)"],
+    );
+    let spp = GOOD.replace("spp: 2", "spp: 1.5");
+    assert_scene_refused(
+        &dir,
+        "int.ron",
+        spp.as_bytes(),
+        &["int.ron:3:20: expected an integer, got 1.5", "whole number"],
+    );
+    let width = GOOD.replace("width: 16", "width: 16.0");
+    assert_scene_refused(
+        &dir,
+        "int2.ron",
+        width.as_bytes(),
+        &["int2.ron:2:19: expected an integer, got 16.0"],
+    );
+    let deep = format!(
+        "(materials: {{\"m\": {}Diffuse(){}}}, shapes: [])",
+        "Twosided(bsdf: ".repeat(200),
+        ")".repeat(200)
+    );
+    assert_scene_refused(
+        &dir,
+        "deep.ron",
+        deep.as_bytes(),
+        &["nested too deeply (more than 128"],
+    );
+    // A spectrum file that is not UTF-8: the offset, and no "paths are relative" hint.
+    std::fs::write(dir.join("s.txt"), b"400 0.5\n\xfe700 0.5\n").unwrap();
+    let file = GOOD.replace("Constant(0.5)", "File(path: \"s.txt\")");
+    assert_scene_refused(
+        &dir,
+        "spec.ron",
+        file.as_bytes(),
+        &["s.txt: the file is not UTF-8 text: byte 8 (0xFE, on line 2)"],
+    );
+    let (_, err) = run_in(&dir, &["render", "spec.ron", "-o", "o.exr"]);
+    assert!(!err.contains("relative"), "{err}");
+}
+
+/// Issue 14 item 7: mesh errors give the OBJ line or PLY element, a PLY whose header counts
+/// disagree with its data is refused, huge coordinates are named as such, and a file that was
+/// found gets no "paths are relative" hint (a missing one does).
+#[test]
+fn mesh_errors_give_the_line_and_the_cause() {
+    let dir = workdir("mesh-messages");
+    let scene = |mesh: &str| {
+        format!(
+            r#"(film: (width: 8, height: 6), sampler: (spp: 1), materials: {{ "m": Diffuse() }}, shapes: [(shape: Mesh(path: "{mesh}"), material: "m", to_world: [Translate((0, 0, 4))])])"#
+        )
+    };
+    let ply = |nv: usize, nf: usize, body: &str| {
+        format!("ply\nformat ascii 1.0\nelement vertex {nv}\nproperty float x\nproperty float y\nproperty float z\nelement face {nf}\nproperty list uchar int vertex_indices\nend_header\n{body}")
+    };
+    let tri = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        (
+            "a.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n".into(),
+            vec!["`a.obj` line 3 (`v 0 1`): OBJ position parse error"],
+        ),
+        (
+            "b.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n".into(),
+            vec!["`b.obj` line 4 (`f 1 2 9`): OBJ face vertex index out of bounds"],
+        ),
+        (
+            "c.obj",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n".into(),
+            vec!["`c.obj` line 4 (`f 1 2 x`): OBJ face parse error"],
+        ),
+        (
+            "big.obj",
+            "v 1e30 0 0\nv 0 1e30 0\nv 0 0 1e30\nf 1 2 3\n".into(),
+            vec![
+                "coordinates are too large (up to 1e30",
+                "scale the mesh down",
+            ],
+        ),
+        (
+            "zero.obj",
+            "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n".into(),
+            vec!["every triangle of this shape has zero area"],
+        ),
+        (
+            "more.ply",
+            ply(5, 1, tri),
+            vec!["`more.ply`: the header declares 5 `vertex` elements, but the file ends"],
+        ),
+        (
+            "faces.ply",
+            ply(3, 2, tri),
+            vec!["the header declares 2 `face` elements, but the file ends"],
+        ),
+        (
+            "fewer.ply",
+            ply(3, 1, &format!("{tri}3 0 1 2\n")),
+            vec!["data after the elements the header declares (3 vertex, 1 face)"],
+        ),
+        (
+            "text.ply",
+            ply(3, 1, "0 0 0\n1 0 zz\n0 1 0\n3 0 1 2\n"),
+            vec!["PLY element `vertex`: Line 11", "(`1 0 zz`)"],
+        ),
+        (
+            "index.ply",
+            ply(3, 1, "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"),
+            vec!["face 0 uses vertex 7, but the file has 3 vertices"],
+        ),
+    ];
+    for (mesh, text, needles) in &cases {
+        std::fs::write(dir.join(mesh), text).unwrap();
+        assert_scene_refused(&dir, "m.ron", scene(mesh).as_bytes(), needles);
+        let (_, err) = run_in(&dir, &["render", "m.ron", "-o", "o.exr"]);
+        assert!(!err.contains("relative to the scene"), "{mesh}: {err}");
+    }
+    assert_scene_refused(
+        &dir,
+        "m.ron",
+        scene("missing.obj").as_bytes(),
+        &["hint: mesh paths are relative to the scene file"],
+    );
+    // The same PLY with matching counts loads.
+    std::fs::write(dir.join("ok.ply"), ply(3, 1, tri)).unwrap();
+    std::fs::write(dir.join("m.ron"), scene("ok.ply")).unwrap();
+    let (code, err) = run_in(&dir, &["render", "m.ron", "-o", "o.exr", "-q"]);
+    assert_eq!(code, 0, "{err}");
+}
+
+/// The pixels (every channel, as bits) of an EXR prism wrote.
+fn pixels(path: &Path) -> Vec<(String, Vec<u32>)> {
+    use exr::prelude::*;
+    let img = read_all_flat_layers_from_file(path).unwrap();
+    let mut v: Vec<_> = img.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .map(|c| {
+            let bits = c.sample_data.values_as_f32().map(f32::to_bits).collect();
+            (c.name.to_string(), bits)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// Determinism through the binary: the same scene and seed give bit-identical pixels with 1,
+/// 2 and 7 worker threads (the Cornell box at 32×32, 4 spp, and a scene with textures, a
+/// spectrum file and an environment map).
+#[test]
+fn one_two_and_seven_threads_give_identical_pixels() {
+    let dir = workdir("threads");
+    let cornell =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell.ron"))
+            .unwrap()
+            .replace("width: 256, height: 256", "width: 32, height: 32");
+    std::fs::write(dir.join("cornell.ron"), cornell).unwrap();
+    scene_with_inputs(&dir);
+    for scene in ["cornell.ron", "scene.ron"] {
+        let mut first = None;
+        for t in ["1", "2", "7"] {
+            let out = format!("{scene}.{t}.exr");
+            let (code, err) = run_in(
+                &dir,
+                &[
+                    "render",
+                    scene,
+                    "-o",
+                    &out,
+                    "--spp",
+                    "4",
+                    "--seed",
+                    "3",
+                    "--threads",
+                    t,
+                    "-q",
+                ],
+            );
+            assert_eq!(code, 0, "{err}");
+            let p = pixels(&dir.join(&out));
+            assert!(
+                p.iter().any(|(_, b)| b.iter().any(|&x| x != 0)),
+                "{scene}: black"
+            );
+            match &first {
+                None => first = Some(p),
+                Some(f) => assert!(f == &p, "{scene}: {t} threads differ from 1"),
+            }
+        }
+    }
 }

@@ -20,6 +20,20 @@ pub fn record(path: &Path) {
     });
 }
 
+/// `err` with `hint` (where relative paths are anchored) if `full` was not found; a file that
+/// was found but is broken gets no such hint.
+pub fn missing_hint(
+    err: crate::error::InputError,
+    full: &Path,
+    hint: &str,
+) -> crate::error::InputError {
+    if full.exists() {
+        err
+    } else {
+        err.hint(hint)
+    }
+}
+
 /// Runs `f`, returning its result and the input files recorded while it ran.
 pub fn collect<T>(f: impl FnOnce() -> T) -> (T, Vec<PathBuf>) {
     let outer = READ.with(|r| r.borrow_mut().replace(Vec::new()));
