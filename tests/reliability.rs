@@ -817,3 +817,58 @@ fn one_two_and_seven_threads_give_identical_pixels() {
         }
     }
 }
+
+/// Issue 14 item 7: the field that holds the NaN is named (a sphere's NaN center was reported
+/// as its radius), and IOR hints fit the form written.
+#[test]
+fn nan_field_and_ior_hints() {
+    let dir = workdir("nan-ior");
+    let center = GOOD.replace("center: (0, 0, 4)", "center: (0, NaN, 4)");
+    assert_scene_refused(
+        &dir,
+        "c.ron",
+        center.as_bytes(),
+        &["shapes[0].shape.center: a sphere needs a finite center (got [0.0, NaN, 4.0])"],
+    );
+    let ior = |v: &str| {
+        GOOD.replace(
+            "Diffuse(reflectance: Constant(0.5))",
+            &format!("Dielectric(int_ior: {v})"),
+        )
+    };
+    let cases: &[(&str, &[&str])] = &[
+        (
+            "-1.5",
+            &[
+                "int_ior: an index of refraction must be > 0, not -1.5",
+                "e.g. 1.5 (glass)",
+            ],
+        ),
+        (
+            "NaN",
+            &[
+                "int_ior: the index of refraction NaN is not a finite number",
+                "e.g. 1.5 (glass)",
+            ],
+        ),
+        ("Cauchy(a: -1.5, b: 0)", &["reaches -1.5", "n = a + b/λ²"]),
+        (
+            "Spectrum(Tabulated([(400, 1.5), (600, 1.5)]))",
+            &["reaches 0", "must cover the whole spectral range"],
+        ),
+        (
+            "Sellmeier(b: (1, 0, 0), c: (0.25, 0, 0))",
+            &["not a finite number somewhere", "makes a pole"],
+        ),
+    ];
+    for (v, needles) in cases {
+        assert_scene_refused(&dir, "ior.ron", ior(v).as_bytes(), needles);
+        let (_, err) = run_in(&dir, &["render", "ior.ron", "-o", "o.exr"]);
+        if !v.starts_with("Spectrum") {
+            assert!(!err.contains("tabulated"), "{v}: {err}");
+        }
+        if !v.starts_with("Sellmeier") {
+            assert!(!err.contains("Sellmeier"), "{v}: {err}");
+        }
+    }
+}

@@ -88,11 +88,18 @@ pub fn shape(
             flip: sc.flip_normals,
         }),
         ShapeKind::Sphere { center, radius } => {
+            // Name the value that is wrong, not its neighbour.
             check(
-                finite3(*center) && radius.is_finite() && *radius > 0.0,
+                finite3(*center),
                 file,
-                &format!("{field}.shape"),
-                format!("a sphere needs a finite center and a radius > 0 (got {radius})"),
+                &format!("{field}.shape.center"),
+                format!("a sphere needs a finite center (got {center:?})"),
+            )?;
+            check(
+                radius.is_finite() && *radius > 0.0,
+                file,
+                &format!("{field}.shape.radius"),
+                format!("a sphere needs a finite radius > 0 (got {radius})"),
             )?;
             let cols = [t.vector(Vec3::X), t.vector(Vec3::Y), t.vector(Vec3::Z)];
             let s = cols[0].length();
