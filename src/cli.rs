@@ -118,8 +118,7 @@ pub fn main() -> i32 {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render(&args),
-        Command::Export(args) => crate::scene::load(&args.scene, |_| {})
-            .and_then(|job| crate::export::export(&job, &args.scene, &args.output)),
+        Command::Export(args) => export(&args),
         Command::ProbeBsdf(a) => crate::probe::probe(
             &a.scene,
             &a.material,
@@ -142,8 +141,16 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         return Err(crate::error::InputError::new(&args.scene, "--spp must be at least 1").into());
     }
     if let Some(0) = args.threads {
-        return Err(Error::Other("--threads must be at least 1".into()));
+        return Err(
+            crate::error::InputError::new(&args.scene, "--threads must be at least 1").into(),
+        );
     }
+    output::interrupt::install();
+    let out = args
+        .output
+        .clone()
+        .unwrap_or_else(|| default_output(&args.scene));
+    output::guard::check_names(&out, args.preview.as_deref())?;
     let t_load = Instant::now();
     let job = crate::scene::load(&args.scene, |cfg| {
         if let Some(spp) = args.spp {
@@ -179,10 +186,19 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     for w in &job.warnings {
         eprintln!("warning: {w}");
     }
-    let out = args
-        .output
-        .clone()
-        .unwrap_or_else(|| default_output(&args.scene));
+    output::guard::check_output(&out, "-o", &job.inputs)?;
+    if let Some(p) = &args.preview {
+        output::guard::check_output(p, "--preview", &job.inputs)?;
+        if !(job.channels.rgb || job.channels.xyz) {
+            return Err(crate::error::InputError::new(
+                p,
+                "a PNG preview needs the rgb or xyz output",
+            )
+            .field("--preview")
+            .hint("keep `outputs: (rgb: true)` in the scene, or drop --preview")
+            .into());
+        }
+    }
     let pool = {
         let mut b = rayon::ThreadPoolBuilder::new();
         if let Some(t) = args.threads {
@@ -225,6 +241,23 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         out.display()
     );
     Ok(())
+}
+
+/// `prism export`: the output files are checked against the scene's inputs first; every
+/// failure to write them is the user's to fix (exit 2).
+fn export(args: &ExportArgs) -> Result<(), Error> {
+    output::interrupt::install();
+    let job = crate::scene::load(&args.scene, |_| {})?;
+    for f in crate::export::planned_files(&job, &args.output) {
+        output::guard::check_output(&f, "-o", &job.inputs)?;
+    }
+    crate::export::export(&job, &args.scene, &args.output).map_err(|e| match e {
+        Error::Input(_) => e,
+        e => crate::error::InputError::new(&args.output, e.to_string())
+            .field("-o")
+            .hint("choose a writable output directory")
+            .into(),
+    })
 }
 
 fn default_output(scene: &Path) -> PathBuf {

@@ -48,6 +48,15 @@ use serde_json::{json, Value};
 use std::io::Write;
 use std::path::Path;
 
+/// The files `export` writes into `dir` (checked against the scene's inputs before).
+pub fn planned_files(job: &Job, dir: &Path) -> Vec<std::path::PathBuf> {
+    let meshes = job.scene.shapes.iter().enumerate();
+    let meshes = meshes.filter(|(_, s)| matches!(s, Shape::Mesh(_)));
+    std::iter::once(dir.join("scene.json"))
+        .chain(meshes.map(|(i, _)| dir.join("meshes").join(format!("{i:04}.ply"))))
+        .collect()
+}
+
 /// Writes `dir/scene.json` and `dir/meshes/*.ply` for the scene file `scene_file`.
 pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
     std::fs::create_dir_all(dir.join("meshes")).map_err(|e| Error::io(dir, e))?;

@@ -253,6 +253,7 @@ pub struct RgbImage {
 /// Reads a PNG/JPEG (8/16-bit; sRGB-decoded unless `raw`), OpenEXR (linear) or Radiance HDR
 /// (linear) image. Errors are plain messages naming the file.
 pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
+    crate::scene::inputs::record(path);
     let ext = path
         .extension()
         .and_then(|e| e.to_str())

@@ -407,13 +407,13 @@ impl Material {
                 return;
             }
             Material::Blend { a, b, weight: w } => {
-                let t = w.eval(si.uv).clamp(0.0, 1.0);
+                let t = unit_weight(w.eval(si.uv));
                 a.add_lobes(si, cos_i, wl, weight * (1.0 - t), flip, out);
                 b.add_lobes(si, cos_i, wl, weight * t, flip, out);
                 return;
             }
             Material::Mask { inner, opacity } => {
-                let a = opacity.eval(si.uv).clamp(0.0, 1.0);
+                let a = unit_weight(opacity.eval(si.uv));
                 inner.add_lobes(si, cos_i, wl, weight * a, flip, out);
                 Lobe::Null.push(weight * (1.0 - a), false, out);
                 return;
@@ -436,6 +436,17 @@ impl Material {
             }),
         };
         lobe.push(weight, flip, out);
+    }
+}
+
+/// A texture value as a lobe weight in [0, 1]: clamped, and NaN (a NaN texel) taken as 0, so a
+/// mixture never gets a NaN weight (nor, its lobes all dropped, no lobe at all).
+#[inline]
+fn unit_weight(v: f32) -> f32 {
+    if v > 0.0 {
+        v.min(1.0)
+    } else {
+        0.0
     }
 }
 
@@ -732,6 +743,10 @@ impl<const N: usize> BsdfLike<N> for Mixture<'_, N> {
 
     #[inline(never)]
     fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+        // No lobe (every weight 0 or NaN): nothing to sample, rather than an index past the end.
+        if self.lobes.is_empty() {
+            return None;
+        }
         if self.lobes.len() == 1 {
             let (lobe, w, flip) = &self.lobes[0];
             let mut s = lobe.sample(mirror(wi, *flip), uc, u)?;

@@ -109,19 +109,38 @@ impl IorConfig {
         };
         let (lo, hi) = ctx.range;
         let (min, max) = ior.min_max(lo, hi);
+        // The hint fits the form written: a constant has neither poles nor a range to cover.
+        let constant = matches!(ior, Ior::Constant(_));
         if !(min.is_finite() && max.is_finite()) {
+            if constant {
+                return Err(err(format!(
+                    "the index of refraction {min} is not a finite number"
+                ))
+                .hint("write a number > 0, e.g. 1.5 (glass) or 1.33 (water)"));
+            }
+            let hint = match self {
+                IorConfig::Form(IorForm::Sellmeier { .. }) => "a Sellmeier cᵢ equal to some λ² (in µm²) inside the range makes a pole; check the coefficients' units",
+                _ => "check the coefficients or values (λ in µm for Cauchy)",
+            };
             return Err(err(format!(
                 "the index of refraction is not a finite number somewhere in {lo}–{hi} nm"
             ))
-            .hint("a Sellmeier cᵢ equal to some λ² (in µm²) inside the range makes a pole; check the coefficients' units"));
+            .hint(hint));
         }
         if min <= 0.0 {
+            if constant {
+                return Err(err(format!("an index of refraction must be > 0, not {min}"))
+                    .hint("write a number > 0, e.g. 1.5 (glass) or 1.33 (water); a medium outside the object is set with ext_ior"));
+            }
+            let hint = match self {
+                IorConfig::Form(IorForm::Spectrum(_)) => "a tabulated index must cover the whole spectral range (it is 0 outside its data)",
+                IorConfig::Form(IorForm::Cauchy { .. }) => "n = a + b/λ² (λ in µm) must stay > 0: a is about 1.3–1.9 for glasses",
+                _ => "check the coefficients (λ in µm, c in µm²)",
+            };
             return Err(err(format!(
                 "an index of refraction must be > 0, but this one reaches {min} in {lo}–{hi} nm"
             ))
-            .hint(
-                "a tabulated index must cover the whole spectral range (it is 0 outside its data)",
-            ));
+            .hint(hint));
         }
         Ok(ior)
     }

@@ -181,8 +181,9 @@ impl SpectrumConfig {
                 }
                 let full = ctx.file.parent().unwrap_or(Path::new(".")).join(path);
                 let img = texture::load_rgb(&full, *raw).map_err(|m| {
-                    ctx.err(m)
-                        .hint("texture paths are relative to the scene file")
+                    let err = ctx.err(m);
+                    let hint = "texture paths are relative to the scene file";
+                    crate::scene::inputs::missing_hint(err, &full, hint)
                 })?;
                 SpectralTexture::Bitmap(Box::new(img.to_reflectance(
                     *wrap,
@@ -256,13 +257,18 @@ impl SpectrumConfig {
             }
             SpectrumConfig::File { path, column } => {
                 let full = ctx.file.parent().unwrap_or(Path::new(".")).join(path);
-                let text = std::fs::read_to_string(&full).map_err(|e| {
-                    ctx.err(format!(
+                crate::scene::inputs::record(&full);
+                let bytes = std::fs::read(&full).map_err(|e| {
+                    let err = ctx.err(format!(
                         "cannot read spectrum file `{}`: {e}",
                         full.display()
-                    ))
-                    .hint("paths are relative to the scene file")
+                    ));
+                    match full.exists() {
+                        true => err,
+                        false => err.hint("paths are relative to the scene file"),
+                    }
                 })?;
+                let text = super::parse::utf8(bytes, &full)?;
                 let t = table::parse(&text).map_err(|e| {
                     InputError::new(&full, e.message.clone())
                         .at(e.line, 1)

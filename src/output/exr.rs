@@ -23,8 +23,9 @@ pub fn write(film: &Film, path: &Path, extra: &[(String, String)]) -> Result<(),
     let mut text = |k: &str, v: &str| -> Result<(), Error> {
         let key = Text::new_or_none(k)
             .ok_or_else(|| Error::Other(format!("EXR attribute name `{k}` is not ASCII")))?;
-        let val = Text::new_or_none(v)
-            .ok_or_else(|| Error::Other(format!("EXR attribute `{k}` has non-ASCII text")))?;
+        // OpenEXR strings are bytes; ours are UTF-8 (so a scene named `場景.ron` is stored as
+        // its UTF-8 bytes, which OpenImageIO and OpenEXR's own tools read back as UTF-8).
+        let val = Text::from_slice_unchecked(v.as_bytes());
         attrs.other.insert(key, AttributeValue::Text(val));
         Ok(())
     };

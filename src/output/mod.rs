@@ -3,48 +3,31 @@
 //! image behind and never replaces a good one with a broken one.
 
 pub mod exr;
+pub mod guard;
+pub mod interrupt;
 pub mod png;
 
-use crate::error::Error;
-use std::path::{Path, PathBuf};
+use crate::error::{Error, InputError};
+use std::path::Path;
 
 /// Writes `path` by calling `write` on a temporary sibling file, then renaming it into place.
+/// The temporary is removed on failure, and on SIGINT/SIGTERM once `interrupt::install` ran.
+/// Failures are the user's to fix (a full disk, a directory made read-only meanwhile): exit 2.
 pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<(), String>,
 ) -> Result<(), Error> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
+    let err = |m: String| -> Error {
+        InputError::new(path, format!("cannot write the output: {m}"))
+            .hint("check that its directory is writable and the disk has space")
+            .into()
     };
+    let dir = guard::dir_of(path);
     if !dir.is_dir() {
-        std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+        std::fs::create_dir_all(&dir).map_err(|e| err(format!("`{}`: {e}", dir.display())))?;
     }
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Other(format!("`{}` is not a file path", path.display())))?;
-    // Keep the extension last: some writers pick the format from it.
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp.{}",
-        name.to_string_lossy(),
-        std::process::id(),
-        ext_of(path)
-    ));
-    if let Err(message) = write(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(Error::Other(format!(
-            "writing {}: {message}",
-            path.display()
-        )));
-    }
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        Error::io(path, e)
-    })
-}
-
-fn ext_of(path: &Path) -> String {
-    path.extension()
-        .map(|e| e.to_string_lossy().into_owned())
-        .unwrap_or_default()
+    let tmp = guard::temp_path(path).ok_or_else(|| err("it is not a file path".into()))?;
+    let tmp = interrupt::Temp::create(&tmp).map_err(|e| err(e.to_string()))?;
+    write(tmp.path()).map_err(err)?;
+    tmp.rename(path).map_err(|e| err(e.to_string()))
 }

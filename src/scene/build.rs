@@ -25,21 +25,26 @@ pub struct Job {
     pub warnings: Vec<String>,
     /// The configuration it was built from (after command-line overrides).
     pub config: SceneConfig,
+    /// Every file the load read (scene, meshes, images, spectra): outputs must not be one.
+    pub inputs: Vec<std::path::PathBuf>,
 }
 
 /// Reads, checks and builds the scene file at `path`; `edit` may change the parsed config
 /// first (command-line overrides).
 pub fn load(path: &Path, edit: impl FnOnce(&mut SceneConfig)) -> Result<Job, Error> {
-    if super::gltf::is_gltf(path) {
-        let (mut cfg, warnings) = super::gltf::scene_config(path)?;
+    let (job, inputs) = super::inputs::collect(|| -> Result<Job, Error> {
+        if super::gltf::is_gltf(path) {
+            let (mut cfg, warnings) = super::gltf::scene_config(path)?;
+            edit(&mut cfg);
+            let mut job = build(cfg, path)?;
+            job.warnings.splice(0..0, warnings);
+            return Ok(job);
+        }
+        let mut cfg = config::parse_file(path)?;
         edit(&mut cfg);
-        let mut job = build(cfg, path)?;
-        job.warnings.splice(0..0, warnings);
-        return Ok(job);
-    }
-    let mut cfg = config::parse_file(path)?;
-    edit(&mut cfg);
-    Ok(build(cfg, path)?)
+        Ok(build(cfg, path)?)
+    });
+    Ok(Job { inputs, ..job? })
 }
 
 /// As `load`, from text (`file` names it in errors and anchors relative paths).
@@ -376,5 +381,6 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         channels,
         warnings,
         config: cfg,
+        inputs: Vec::new(),
     })
 }

@@ -125,8 +125,10 @@ pub fn emitter(
             )?;
             let full = file.parent().unwrap_or(Path::new(".")).join(filename);
             let err = |m: String| InputError::new(file, m).field(format!("{field}.filename"));
-            let img = texture::load_rgb(&full, false)
-                .map_err(|m| err(m).hint("image paths are relative to the scene file"))?;
+            let img = texture::load_rgb(&full, false).map_err(|m| {
+                let hint = "image paths are relative to the scene file";
+                super::inputs::missing_hint(err(m), &full, hint)
+            })?;
             // Equirectangular: 360° across, 180° down, so twice as wide as high.
             let (mw, mh) = EnvMap::MIN_SIZE;
             let (mw, mh) = (mw.max(2 * mh), mh);

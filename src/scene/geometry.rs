@@ -88,11 +88,18 @@ pub fn shape(
             flip: sc.flip_normals,
         }),
         ShapeKind::Sphere { center, radius } => {
+            // Name the value that is wrong, not its neighbour.
             check(
-                finite3(*center) && radius.is_finite() && *radius > 0.0,
+                finite3(*center),
                 file,
-                &format!("{field}.shape"),
-                format!("a sphere needs a finite center and a radius > 0 (got {radius})"),
+                &format!("{field}.shape.center"),
+                format!("a sphere needs a finite center (got {center:?})"),
+            )?;
+            check(
+                radius.is_finite() && *radius > 0.0,
+                file,
+                &format!("{field}.shape.radius"),
+                format!("a sphere needs a finite radius > 0 (got {radius})"),
             )?;
             let cols = [t.vector(Vec3::X), t.vector(Vec3::Y), t.vector(Vec3::Z)];
             let s = cols[0].length();
@@ -110,9 +117,9 @@ pub fn shape(
         ShapeKind::Mesh { path } => {
             let full = base.join(path);
             let mesh = mesh_io::load(&full).map_err(|m| {
-                InputError::new(file, m)
-                    .field(format!("{field}.shape.path"))
-                    .hint("mesh paths are relative to the scene file")
+                let err = InputError::new(file, m).field(format!("{field}.shape.path"));
+                let hint = "mesh paths are relative to the scene file";
+                super::inputs::missing_hint(err, &full, hint)
             })?;
             Shape::Mesh(mesh.transformed(&t, sc.flip_normals))
         }
@@ -123,11 +130,21 @@ pub fn shape(
             .filter(|&k| shape.prim_is_degenerate(k))
             .count();
         if degenerate == m.indices.len() {
-            return Err(InputError::new(
-                file,
-                "every triangle of this shape has zero area (after its transform)",
-            )
-            .field(field));
+            // An area that overflows f32 (coordinates past ~1e19) is not zero: say which.
+            let big = m
+                .positions
+                .iter()
+                .map(|p| p.abs().max_element())
+                .fold(0.0, f32::max);
+            let (message, hint) = if big > 1e18 {
+                (format!("the coordinates are too large (up to {big:e}, after its transform): the triangles' areas overflow single precision"), "scale the mesh down (its units are the scene's)")
+            } else {
+                (
+                    "every triangle of this shape has zero area (after its transform)".into(),
+                    "check the vertices and the transform's scale",
+                )
+            };
+            return Err(InputError::new(file, message).field(field).hint(hint));
         }
         if degenerate > 0 {
             warnings.push(format!(

@@ -481,9 +481,9 @@ pub(super) fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTe
         }) => {
             let full = file.parent().unwrap_or(Path::new(".")).join(path);
             let img = texture::load_rgb(&full, *raw).map_err(|m| {
-                InputError::new(file, m)
-                    .field(field)
-                    .hint("texture paths are relative to the scene file")
+                let err = InputError::new(file, m).field(field);
+                let hint = "texture paths are relative to the scene file";
+                super::inputs::missing_hint(err, &full, hint)
             })?;
             // Values outside [0, 1] (HDR images) are clamped when evaluated.
             FloatTexture::Bitmap(Box::new(img.to_luminance(

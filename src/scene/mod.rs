@@ -6,6 +6,7 @@ mod build;
 mod emitters;
 mod geometry;
 pub mod gltf;
+pub mod inputs;
 mod materials;
 mod principled;
 

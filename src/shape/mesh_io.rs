@@ -9,6 +9,7 @@ use std::path::Path;
 
 /// Loads an OBJ or PLY file by its extension.
 pub fn load(path: &Path) -> Result<Mesh, String> {
+    crate::scene::inputs::record(path);
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -38,7 +39,10 @@ fn load_obj(path: &Path) -> Result<Mesh, String> {
         ..Default::default()
     };
     let (models, _materials) =
-        tobj::load_obj(path, &opts).map_err(|e| format!("`{}`: OBJ {e}", path.display()))?;
+        tobj::load_obj(path, &opts).map_err(|e| match obj_error_line(path, &e) {
+            Some((n, line)) => format!("`{}` line {n} (`{line}`): OBJ {e}", path.display()),
+            None => format!("`{}`: OBJ {e}", path.display()),
+        })?;
     let mut mesh = Mesh::default();
     let all_normals = models.iter().all(|m| !m.mesh.normals.is_empty());
     let all_uvs = models.iter().all(|m| !m.mesh.texcoords.is_empty());
@@ -73,6 +77,59 @@ fn load_obj(path: &Path) -> Result<Mesh, String> {
         );
     }
     Ok(mesh)
+}
+
+/// The line (1-based, and its text) an OBJ error of tobj's is about, which tobj does not say:
+/// found by a plain scan, run only once tobj has failed.
+fn obj_error_line(path: &Path, e: &tobj::LoadError) -> Option<(usize, String)> {
+    use tobj::LoadError as E;
+    let text = String::from_utf8_lossy(&std::fs::read(path).ok()?).into_owned();
+    let floats =
+        |w: &[&str], n: usize| w.len() >= n && w[..n].iter().all(|s| s.parse::<f32>().is_ok());
+    // Count of v, vt, vn so far; an index k refers to 1..=count, or count + k + 1 if negative.
+    let mut count = [0i64; 3];
+    for (i, line) in text.lines().enumerate() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let (key, rest) = match words.split_first() {
+            Some((k, r)) => (*k, r),
+            None => continue,
+        };
+        let index_ok = |slot: usize| {
+            rest.iter().all(|c| match c.split('/').nth(slot) {
+                None | Some("") => true,
+                Some(s) => s.parse::<i64>().is_ok_and(|k| {
+                    let k = if k < 0 { count[slot] + k + 1 } else { k };
+                    (1..=count[slot]).contains(&k)
+                }),
+            })
+        };
+        let bad = match (key, e) {
+            ("v", E::PositionParseError) => !floats(rest, 3),
+            ("vt", E::TexcoordParseError) => !floats(rest, 1),
+            ("vn", E::NormalParseError) => !floats(rest, 3),
+            ("f", E::FaceParseError) => {
+                rest.len() < 3
+                    || rest.iter().any(|c| {
+                        c.split('/')
+                            .any(|s| !s.is_empty() && s.parse::<i64>().is_err())
+                    })
+            }
+            ("f", E::FaceVertexOutOfBounds) => !index_ok(0),
+            ("f", E::FaceTexCoordOutOfBounds) => !index_ok(1),
+            ("f", E::FaceNormalOutOfBounds) => !index_ok(2),
+            _ => false,
+        };
+        if bad {
+            return Some((i + 1, line.trim().chars().take(80).collect()));
+        }
+        match key {
+            "v" => count[0] += 1,
+            "vt" => count[1] += 1,
+            "vn" => count[2] += 1,
+            _ => {}
+        }
+    }
+    None
 }
 
 /// One PLY vertex as prism keeps it. Reading into this (rather than ply-rs-bw's default
@@ -187,6 +244,22 @@ impl PropertyAccess for PlyOther {
     }
 }
 
+/// True if anything but whitespace (ASCII) or anything at all (binary) follows the elements.
+fn has_trailing_data(reader: &mut Reader<impl std::io::BufRead>, ascii: bool) -> bool {
+    let r = reader.get_mut();
+    loop {
+        let buf = match r.fill_buf() {
+            Ok([]) | Err(_) => return false,
+            Ok(b) => b,
+        };
+        if !ascii || buf.iter().any(|b| !b.is_ascii_whitespace()) {
+            return true;
+        }
+        let n = buf.len();
+        r.consume(n);
+    }
+}
+
 fn load_ply(path: &Path) -> Result<Mesh, String> {
     let name = path.display();
     let file = std::fs::File::open(path).map_err(|e| format!("`{name}`: {e}"))?;
@@ -196,7 +269,27 @@ fn load_ply(path: &Path) -> Result<Mesh, String> {
         .map_err(|e| format!("`{name}`: PLY {e}"))?;
     let (mut vertices, mut faces) = (None, None);
     for element in header.elements.values() {
-        let err = |e| format!("`{name}`: PLY element `{}`: {e}", element.name);
+        let err = |e: ply_rs_bw::parser::ParseError| {
+            let e = e.to_string();
+            if e.contains("Unexpected end of file") {
+                // The header promises more elements than the data holds.
+                format!(
+                    "`{name}`: the header declares {} `{}` elements, but the file ends before the last of them",
+                    element.count, element.name
+                )
+            } else {
+                // ply-rs-bw nests its messages over lines; the first and the line's text suffice.
+                let first = e.lines().next().unwrap_or_default();
+                let text = e
+                    .split("String: '")
+                    .nth(1)
+                    .and_then(|t| t.split('\n').next());
+                match text {
+                    Some(t) => format!("`{name}`: PLY element `{}`: {first} (`{t}`)", element.name),
+                    None => format!("`{name}`: PLY element `{}`: {first}", element.name),
+                }
+            }
+        };
         match element.name.as_str() {
             "vertex" => {
                 vertices = Some(
@@ -218,6 +311,20 @@ fn load_ply(path: &Path) -> Result<Mesh, String> {
                     .map_err(err)?;
             }
         }
+    }
+    if has_trailing_data(
+        &mut reader,
+        header.encoding == ply_rs_bw::ply::Encoding::Ascii,
+    ) {
+        return Err(format!(
+            "`{name}`: there is data after the elements the header declares ({}): the header's counts disagree with the data",
+            header
+                .elements
+                .values()
+                .map(|e| format!("{} {}", e.count, e.name))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
     }
     let vertices = vertices.ok_or(format!("`{name}` has no `vertex` element"))?;
     let faces = faces.ok_or(format!("`{name}` has no `face` element"))?;
