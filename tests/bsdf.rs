@@ -535,8 +535,10 @@ fn rough_conductor_matches_mitsuba() {
 /// coating's transmittance, differently).
 #[test]
 fn albedos_match_mitsuba() {
+    /// (θi in degrees, Mitsuba's albedo, its standard error).
+    type Albedo = (f32, f64, f64);
     #[rustfmt::skip]
-    const MITSUBA: [(&str, [(f32, f64, f64); 3]); 8] = [
+    const MITSUBA: [(&str, [Albedo; 3]); 8] = [
         (r#"RoughConductor(distribution: Beckmann, alpha: 0.05)"#, [(0.0, 1.00000, 0.00000), (60.0, 1.00000, 0.00000), (80.0, 0.99347, 0.00015)]),
         (r#"RoughConductor(distribution: Beckmann, alpha: 0.2)"#, [(0.0, 1.00000, 0.00000), (60.0, 0.97257, 0.00031), (80.0, 0.90815, 0.00054)]),
         (r#"RoughConductor(distribution: Beckmann, alpha: 0.6)"#, [(0.0, 0.85609, 0.00063), (60.0, 0.85257, 0.00066), (80.0, 0.91750, 0.00044)]),
