@@ -66,7 +66,7 @@ def inputs_digest(root: pathlib.Path = ROOT) -> str:
     files: set[pathlib.Path] = set(comparison_scenes(root))
     for name in DIGEST_INPUTS:
         p = root / name
-        files |= {f for f in p.rglob("*") if f.is_file()} if p.is_dir() else {p}
+        files |= {f for f in p.rglob("*") if f.is_file()} if p.is_dir() else {p} if p.exists() else set()
     h = hashlib.sha256()
     for f in sorted(files):
         if "__pycache__" in f.parts:
