@@ -49,7 +49,8 @@ fn render(scene: &str, accel: AccelKind, seed: u64, spp: u32) -> prism::film::Fi
 /// R, G, B channel, the mean difference must lie within z = 4.3 of its standard error (from the
 /// spread of the pixel differences; Šidák over the 192 tests at α = 1e-3), with a floor of 1e-6
 /// relative so identical tiles pass exactly. The image means must agree to 1e-3 relative and
-/// most pixels must be bit-identical (the backends agree hit for hit almost everywhere).
+/// 99% of the pixel values must be bit-identical (measured: 100% on both scenes; the backends
+/// agree hit for hit).
 #[test]
 #[cfg_attr(
     not(feature = "embree"),
@@ -108,6 +109,6 @@ fn bvh_and_embree_render_the_same_images() {
             "{scene}: {:.1}% of pixel values bit-identical, largest tile |z| {worst:.2}",
             100.0 * frac
         );
-        assert!(frac > 0.5, "{scene}: only {:.1}% identical", 100.0 * frac);
+        assert!(frac > 0.99, "{scene}: only {:.1}% identical", 100.0 * frac);
     }
 }
