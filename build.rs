@@ -11,8 +11,26 @@ fn main() {
     let out = PathBuf::from(env::var("OUT_DIR").unwrap());
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=spectra");
+    host_cpu_cfgs();
     embed_spectra(&root.join("spectra"), &out.join("spectra_files.rs"));
     fit_rgb_table(&root, &out);
+}
+
+/// `prism_host_avx2` / `prism_host_sse41` when the building CPU has them and builds for itself:
+/// the tests of the SIMD paths are then run, and otherwise reported as ignored with the reason
+/// (a runtime check inside a test could only pass silently).
+fn host_cpu_cfgs() {
+    println!("cargo:rustc-check-cfg=cfg(prism_host_avx2)");
+    println!("cargo:rustc-check-cfg=cfg(prism_host_sse41)");
+    #[cfg(target_arch = "x86_64")]
+    if env::var("CARGO_CFG_TARGET_ARCH").as_deref() == Ok("x86_64") {
+        if std::is_x86_feature_detected!("avx2") {
+            println!("cargo:rustc-cfg=prism_host_avx2");
+        }
+        if std::is_x86_feature_detected!("sse4.1") && std::is_x86_feature_detected!("ssse3") {
+            println!("cargo:rustc-cfg=prism_host_sse41");
+        }
+    }
 }
 
 // `rgb2spec_fit.rs` refers to its sibling as `super::table`, as in the crate; mirroring

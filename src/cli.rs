@@ -282,6 +282,7 @@ fn metadata(
         ("prism:spp".into(), s.spp.to_string()),
         ("prism:seed".into(), s.seed.to_string()),
         ("prism:sampler".into(), format!("{:?}", s.sampler)),
+        ("prism:accel".into(), format!("{:?}", job.config.accel)),
         (
             "prism:wavelengths".into(),
             format!(

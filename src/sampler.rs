@@ -369,13 +369,17 @@ mod tests {
     /// Both scramble paths, whichever `sample` takes on this CPU, against each other on random
     /// inputs (every bit pattern of points and scrambles matters to the multiplies).
     #[test]
+    #[cfg_attr(
+        not(prism_host_sse41),
+        ignore = "this CPU lacks SSE4.1/SSSE3: only the portable scramble runs"
+    )]
     fn sse41_scramble_matches_the_portable_one() {
         #[cfg(target_arch = "x86_64")]
         {
-            if !sse41() {
-                eprintln!("no SSE4.1 on this CPU: only the portable path runs here");
-                return;
-            }
+            assert!(
+                sse41(),
+                "built on a CPU with SSE4.1, run on one without: rebuild here"
+            );
             let mut rng = crate::math::rng::Pcg32::new(11, 2);
             for _ in 0..100_000 {
                 let sobol: [u32; 4] = std::array::from_fn(|_| rng.next_u32());

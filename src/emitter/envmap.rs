@@ -473,7 +473,7 @@ mod tests {
     /// The bright cells of a map with a 3×2-texel sun: exactly the cells the sun's texels
     /// touch, and `sample_bright` draws them by energy (chi-square over the cells, expected
     /// counts from the cells' probabilities), lands in the cell it chose (`cell`), and its
-    /// density integrates to 1 over the set (a midpoint rule over each cell: 1e-3).
+    /// density is right (E[1/pdf] is the set's solid angle).
     #[test]
     fn bright_cells_hold_the_sun_and_sample_it_by_energy() {
         let (w, h) = (32, 17);
@@ -525,26 +525,57 @@ mod tests {
             chi2 < limit,
             "χ² = {chi2:.1} over {dof} cells (limit {limit:.1})"
         );
-        // ∫ pdf dω over the bright cells, cell by cell in (u, v): dω = 2π² sin θ du dv.
-        let mut integral = 0.0f64;
-        let k = 16;
-        for &c in &b.ids {
-            let (i, j) = (c as usize % w, c as usize / w);
-            for a in 0..k {
-                for bb in 0..k {
-                    let uu = (i as f32 + (a as f32 + 0.5) / k as f32 + 0.5) / w as f32;
-                    let v = (j as f32 + (bb as f32 + 0.5) / k as f32) / (h - 1) as f32;
-                    let (st, ct) = (PI * v).sin_cos();
-                    let (sp, cp) = (2.0 * PI * uu).sin_cos();
-                    let d = m.to_world * Vec3::new(sp * st, ct, -cp * st);
-                    let p = b.dist.pmf(b.ids.iter().position(|&x| x == c).unwrap())
-                        * (w * (h - 1)) as f32
-                        / (2.0 * PI * PI * st);
-                    integral += (p * 2.0 * PI * PI * st) as f64 / (k * k * w * (h - 1)) as f64;
-                    assert_eq!(m.cell(d), c as usize);
-                }
-            }
+        // The density is right if E[1/pdf] over its samples is the solid angle of the set it
+        // covers: here the bright cells' solid angles in closed form, (cos θ₀ − cos θ₁)·2π/w
+        // per cell (not the sampler's own formula). Tolerance 4 standard errors.
+        let rows = h - 1;
+        let omega: f64 = b
+            .ids
+            .iter()
+            .map(|&c| {
+                let j = c as usize / w;
+                let (t0, t1) = (
+                    std::f64::consts::PI * j as f64 / rows as f64,
+                    std::f64::consts::PI * (j + 1) as f64 / rows as f64,
+                );
+                (t0.cos() - t1.cos()) * 2.0 * std::f64::consts::PI / w as f64
+            })
+            .sum();
+        let (mean, se) = inverse_pdf_mean(n, |u| m.sample_bright(&b, u));
+        assert!(
+            (mean - omega).abs() < 4.0 * se,
+            "E[1/pdf] = {mean} ± {se}, solid angle of the bright cells {omega}"
+        );
+    }
+
+    /// Mean and standard error of 1/pdf over `n` samples of `sample` (fixed seed).
+    fn inverse_pdf_mean(n: usize, sample: impl Fn(Vec2) -> Option<(Vec3, f32)>) -> (f64, f64) {
+        let mut rng = crate::math::rng::Pcg32::new(19, 5);
+        let (mut s1, mut s2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let u = Vec2::new(rng.next_f32(), rng.next_f32());
+            let x = sample(u).map_or(0.0, |(_, pdf)| 1.0 / pdf as f64);
+            s1 += x;
+            s2 += x * x;
         }
-        assert!((integral - 1.0).abs() < 1e-3, "∫ pdf = {integral}");
+        let mean = s1 / n as f64;
+        (
+            mean,
+            ((s2 / n as f64 - mean * mean) / (n - 1) as f64).sqrt(),
+        )
+    }
+
+    /// `sample`'s density, checked without the pdf formula: every texel is lit, so the samples
+    /// cover the whole sphere and E[1/pdf] must be 4π (4 standard errors).
+    #[test]
+    fn sampling_density_covers_the_sphere() {
+        let img = image(12, 7, |i, j| [(i * j) as f32 * 0.1 + 0.01, 0.2, 0.0]);
+        let m = EnvMap::new(&img, 1.0, Mat3::from_rotation_x(0.4));
+        let (mean, se) = inverse_pdf_mean(400_000, |u| m.sample(u));
+        let four_pi = 4.0 * std::f64::consts::PI;
+        assert!(
+            (mean - four_pi).abs() < 4.0 * se,
+            "E[1/pdf] = {mean} ± {se}, expected 4π"
+        );
     }
 }

@@ -63,6 +63,11 @@ pub struct CausticSettings {
     pub max_roughness: f32,
     /// Area lights are sources too (their caustics through smooth objects).
     pub area_lights: bool,
+    /// For tests only (not in the scene format): the path tracer keeps the light tracer's
+    /// paths too, so they count twice. tests/caustics.rs shows its split tests fail then.
+    #[doc(hidden)]
+    #[serde(skip)]
+    pub count_twice: bool,
 }
 
 impl Default for CausticSettings {
@@ -72,6 +77,7 @@ impl Default for CausticSettings {
             bright_ratio: 50.0,
             max_roughness: 0.3,
             area_lights: true,
+            count_twice: false,
         }
     }
 }
@@ -198,15 +204,16 @@ impl<'a> Caustics<'a> {
     /// emitter `e` in direction `d` is the light tracer's: the path tracer then leaves it out.
     #[inline]
     pub fn takes(&self, e: u32, d: Vec3) -> bool {
-        self.sources.iter().any(|s| match s {
-            Source::Env {
-                emitter,
-                map,
-                cells,
-                ..
-            } => *emitter == e && cells.contains(map.cell(d)),
-            Source::Directional { emitter, .. } | Source::Area { emitter, .. } => *emitter == e,
-        })
+        !self.settings.count_twice
+            && self.sources.iter().any(|s| match s {
+                Source::Env {
+                    emitter,
+                    map,
+                    cells,
+                    ..
+                } => *emitter == e && cells.contains(map.cell(d)),
+                Source::Directional { emitter, .. } | Source::Area { emitter, .. } => *emitter == e,
+            })
     }
 
     /// Microfacet lobes up to this roughness are glossy (`BsdfLike::glossy`).

@@ -108,13 +108,19 @@ def d65() -> colour.SpectralDistribution:
 
 
 def reference_xyz() -> np.ndarray:
-    """colour-science's XYZ of each patch under D65, scaled so a perfect white has Y = 1."""
+    """colour-science's XYZ of each patch under D65, scaled so a perfect white has Y = 1.
+
+    The reflectances (10 nm) and D65 (5 nm) are resampled to 1 nm by linear interpolation, as
+    prism reads every tabulated spectrum (piecewise linear between samples): colour-science's
+    default `align` interpolates with Sprague's quintic instead, a different spectrum that
+    moves the XYZ by up to ΔE2000 0.047, ten times the render's noise."""
     shape = colour.SpectralShape(360, 830, 1)
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(shape)
-    illum = d65().copy().align(shape)
+    illum = d65().copy().interpolate(shape, interpolator=colour.LinearInterpolator)
     out = []
     for _, sd in reflectances():
-        xyz = colour.sd_to_XYZ(sd.copy().align(shape), cmfs, illum, method="Integration")
+        linear = sd.copy().interpolate(shape, interpolator=colour.LinearInterpolator)
+        xyz = colour.sd_to_XYZ(linear, cmfs, illum, method="Integration")
         out.append(np.asarray(xyz) / 100.0)
     return np.array(out)
 

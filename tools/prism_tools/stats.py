@@ -98,11 +98,16 @@ def bias_test(
         dof = (va + vb) ** 2 / (va**2 / (len(ta) - 1) + vb**2 / (len(tb) - 1))
         p = 2.0 * stats.t.sf(np.abs(t), dof)
         rel = np.where(scale > 0, (mb - ma) / np.where(ma != 0, ma, scale), 0.0)
-    empty = (scale < 1e-8) | ~np.isfinite(p)
-    # Identical nonzero tiles with zero spread (fully deterministic regions) agree exactly.
+    # Tiles (nearly) black in both renderers carry no information. A tile with zero spread in
+    # both (a fully deterministic region) has no t statistic (0/0 degrees of freedom): it agrees
+    # exactly when the means are equal and disagrees with certainty otherwise. Only these two
+    # cases may be decided outside the t-test, so a NaN p-value cannot stand for "agree".
+    empty = scale < 1e-8
+    exact = se == 0
+    p = np.where(exact, np.where(mb == ma, 1.0, 0.0), p)
     p = np.where(empty, 1.0, p)
-    p = np.where((se == 0) & (mb == ma), 1.0, p)
-    p = np.where((se == 0) & (mb != ma) & ~empty, 0.0, p)
+    if not np.all(np.isfinite(p)):
+        raise ValueError("bias_test: non-finite p-value (non-finite pixel values in a render?)")
     adjusted = holm(p)
     i = np.unravel_index(np.argmin(adjusted), adjusted.shape)
     result = BiasResult(alpha, grid, channels, adjusted, rel)

@@ -38,6 +38,53 @@ def comparison_scenes(root: pathlib.Path = ROOT) -> list[pathlib.Path]:
     return materials + [root / "scenes" / "cornell.ron"] + extra
 
 
+#: What the report's numbers depend on, besides the scenes themselves (comparison_scenes()):
+#: the renderer's source and data, the files the scenes load, and the tools that convert,
+#: render and judge. A change to any of them makes the report stale.
+DIGEST_INPUTS = [
+    "src",
+    "spectra",
+    "build.rs",
+    "Cargo.toml",
+    "Cargo.lock",
+    "scenes/textures",
+    "scenes/meshes",
+    "tests/data/mitsuba",
+    "tools/prism_tools/compare.py",
+    "tools/prism_tools/mitsuba_scene.py",
+    "tools/prism_tools/renderers.py",
+    "tools/prism_tools/stats.py",
+]
+DIGEST_LINE = "- Inputs digest (sha256 of the scenes, src/, spectra/, scene assets and the comparison tools; tools/prism_tools/validate.py `inputs_digest`): `{}`"
+
+
+def inputs_digest(root: pathlib.Path = ROOT) -> str:
+    """sha256 over the path and bytes of every input file (sorted, so the order is fixed; files
+    only, so a clean checkout and a working tree with the same contents agree)."""
+    import hashlib
+
+    files: set[pathlib.Path] = set(comparison_scenes(root))
+    for name in DIGEST_INPUTS:
+        p = root / name
+        files |= {f for f in p.rglob("*") if f.is_file()} if p.is_dir() else {p} if p.exists() else set()
+    h = hashlib.sha256()
+    for f in sorted(files):
+        if "__pycache__" in f.parts:
+            continue
+        h.update(f.relative_to(root).as_posix().encode() + b"\0")
+        h.update(f.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+def recorded_digest(report_text: str) -> str | None:
+    """The digest a report says it was made from."""
+    prefix, _, suffix = DIGEST_LINE.partition("{}")
+    for line in report_text.splitlines():
+        if line.startswith(prefix) and line.endswith(suffix):
+            return line[len(prefix) : len(line) - len(suffix)]
+    return None
+
+
 def _git(*args: str) -> str:
     done = subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True)
     return done.stdout.strip() if done.returncode == 0 else "unknown"
@@ -63,6 +110,7 @@ def report(rows: list[tuple[pathlib.Path, cmp.Comparison | str]], seconds: float
         "",
         f"- prism commit `{commit}`{dirty}; Mitsuba {mi.__version__} `{renderers.VARIANT}`; {platform.machine()}, "
         f"{datetime.date.today().isoformat()}; {seconds / 60:.1f} minutes.",
+        DIGEST_LINE.format(inputs_digest()),
         "- Each scene: prism's export converted to a Mitsuba scene (tools/prism_tools/mitsuba_scene.py); "
         "K independent renders × spp per renderer (column `K × spp`).",
         "- Verdict: Welch t-tests of 8×8 tile means of R, G, B, X, Y, Z across the renders, Holm-corrected; "
@@ -124,7 +172,9 @@ def main(argv: list[str] | None = None) -> int:
         if args.report:
             IMAGES.mkdir(parents=True, exist_ok=True)
             write_figure(result, IMAGES / f"{scene.stem}.png")
-    if args.report:
+    if args.report and args.scenes:
+        print("--report covers every comparison scene: not written for a subset", file=sys.stderr)
+    elif args.report:
         REPORT.write_text(report(rows, time.perf_counter() - start) + "\n")
         print(f"wrote {REPORT}")
     return 0 if all(isinstance(r, str) or r.passed for _, r in rows) else 1

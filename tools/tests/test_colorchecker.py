@@ -1,14 +1,17 @@
 """prism reproduces colour-science's XYZ of the 24 ColorChecker patches under D65.
 
-Tolerance: ΔE2000 < 0.5 per patch (the requirement). Derivation of the margin:
+Tolerance: ΔE2000 < 0.02 per patch (the requirement is 0.5; the README states what this
+asserts). Derivation:
 - Monte Carlo noise: each patch is the mean of ~200 pixels × 256 spp × 16 wavelengths. The ΔE
   between the means of two disjoint halves of a patch's pixels is ~2× the noise of the full
-  mean (independent halves, each √2 noisier); half of it is printed and asserted below 0.1, so
-  noise uses at most a fifth of the tolerance.
+  mean (independent halves, each √2 noisier); half of it is printed and asserted below 0.005
+  (measured 0.004), and the tolerance is 4 of those: a correct renderer passes, and any
+  systematic error above ~0.015 fails. Measured: max 0.006, mean 0.003 (same seed every run).
+- The reference integrates the same piecewise-linear spectra prism reads (colorchecker.py).
 - Band integration (the second check, through the spectral channels): integrating 10 nm band
   means as point samples at the band centres smooths the spectrum over 10 nm; for the smooth
-  ColorChecker reflectances times D65 the error is a few hundredths of a ΔE. With 47 bands the
-  same 0.5 bound applies; fewer, wider bands would need a wider one.
+  ColorChecker reflectances times D65 that is deterministic, measured max ΔE 0.108 with 47
+  bands; asserted < 0.2 (fewer, wider bands would need a wider bound).
 """
 
 from __future__ import annotations
@@ -28,8 +31,8 @@ def test_colorchecker_xyz_and_bands(render):
     de = cc.delta_e(xyz, ref)
     noise = 0.5 * cc.delta_e(half_a, half_b)
     print(f"ΔE2000 prism XYZ vs colour-science: max {de.max():.3f}, mean {de.mean():.3f}; noise ≤ {noise.max():.3f}")
-    assert noise.max() < 0.1, noise.max()
-    assert de.max() < 0.5, list(zip(np.round(de, 3), [n for n, _ in cc.reflectances()]))
+    assert noise.max() < 0.005, noise.max()
+    assert de.max() < 0.02, list(zip(np.round(de, 3), [n for n, _ in cc.reflectances()]))
 
     # The spectral bands, read by colour-science and integrated with its CMFs.
     (wl, image), = colour.io.read_spectral_image_Fichet2021(str(out)).values()
@@ -41,4 +44,4 @@ def test_colorchecker_xyz_and_bands(render):
     xyz_bands = band_means @ xbar / xbar[:, 1].sum()
     de_bands = cc.delta_e(xyz_bands, ref)
     print(f"ΔE2000 colour-science integration of 47 bands vs reference: max {de_bands.max():.3f}")
-    assert de_bands.max() < 0.5
+    assert de_bands.max() < 0.2, de_bands.max()

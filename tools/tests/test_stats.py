@@ -43,3 +43,34 @@ def test_rel_mse_and_ci() -> None:
     rng = np.random.default_rng(2)
     mean, half = stats.mean_ci([ref + 0.01 * rng.standard_normal(ref.shape) for _ in range(10)])
     assert np.all(np.abs(mean - 2.0) < 3 * half)
+
+
+def test_exact_disagreement_is_caught() -> None:
+    """Both renderers exact (zero spread across renders) but different in one tile: the t-test
+    has 0/0 degrees of freedom there, and the tile must count as a certain disagreement, not
+    as p = 1 (the bug this pins: NaN degrees of freedom used to be read as an empty tile)."""
+    rng = np.random.default_rng(3)
+    truth = rng.uniform(0.1, 1.0, size=(64, 64, 3))
+    shifted = truth.copy()
+    shifted[8:16, 40:48, 2] *= 1.0001
+    same = stats.bias_test([truth] * 4, [truth.copy()] * 4, ["R", "G", "B"])
+    assert not same.biased and same.worst[0] == 1.0, same.worst
+    res = stats.bias_test([truth] * 4, [shifted] * 4, ["R", "G", "B"])
+    assert res.biased and res.worst == (0.0, 1, 5, "B"), res.worst
+    # One side exact, the other noisy: an ordinary Welch test with k − 1 degrees of freedom.
+    noisy = noisy_renders(shifted, 6, rng, 0.05)
+    mixed = stats.bias_test([truth] * 6, noisy, ["R", "G", "B"])
+    assert np.all(np.isfinite(mixed.p_adjusted))
+    # Black in both: no information, p = 1.
+    black = np.zeros_like(truth)
+    assert stats.bias_test([black] * 3, [black] * 3, ["R", "G", "B"]).worst[0] == 1.0
+
+
+def test_non_finite_pixels_are_an_error() -> None:
+    bad = np.ones((16, 16, 3))
+    bad[0, 0, 0] = np.nan
+    try:
+        stats.bias_test([bad] * 3, [np.ones((16, 16, 3))] * 3, ["R", "G", "B"], grid=2)
+    except ValueError:
+        return
+    raise AssertionError("NaN pixels passed the bias test")
