@@ -31,6 +31,9 @@ pub enum Command {
     /// Write the fully resolved scene (every default filled in, every spectrum tabulated, meshes
     /// as world-space PLY) as JSON, for other tools such as the Mitsuba 3 comparison.
     Export(ExportArgs),
+    /// Render a dataset: many frames of one scene with varied cameras, lights, materials and
+    /// objects, seeded per frame, resumable and shardable (configs/README.md).
+    Dataset(crate::dataset::cli::DatasetArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -104,6 +107,10 @@ pub fn main() -> i32 {
         Command::Render(args) => render(&args),
         Command::Export(args) => crate::scene::load(&args.scene, |_| {})
             .and_then(|job| crate::export::export(&job, &args.scene, &args.output)),
+        Command::Dataset(args) => match crate::dataset::cli::main(&args) {
+            Ok(code) => return code,
+            Err(e) => Err(e),
+        },
     };
     match result {
         Ok(()) => 0,
