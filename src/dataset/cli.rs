@@ -25,6 +25,10 @@ pub struct DatasetArgs {
     /// Number of shards. Default: SLURM_ARRAY_TASK_COUNT, else 1.
     #[arg(long)]
     pub num_shards: Option<u32>,
+    /// Check the config and claim the output folder, print the frames done and left as JSON
+    /// on stdout, render nothing (for drivers such as prism_tools' Ray runner).
+    #[arg(long)]
+    pub check: bool,
     /// Start over in an output folder that holds another dataset (or other files).
     #[arg(long)]
     pub force: bool,
@@ -65,6 +69,7 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
         force: args.force,
         quiet: args.quiet,
         export_frame: args.export_frame,
+        check: args.check,
     };
     let s = pool.install(|| run::run(&args.config, &args.output, &opts))?;
     Ok(if s.failed > 0 { 1 } else { 0 })

@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 use sha2::{Digest, Sha256};
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 /// What to run.
@@ -23,6 +23,8 @@ pub struct Options {
     pub quiet: bool,
     /// Write frame i's resolved scene instead of rendering.
     pub export_frame: Option<u32>,
+    /// Check and claim the folder, print what is done and what is left (JSON), render nothing.
+    pub check: bool,
 }
 
 /// The run's tally.
@@ -124,6 +126,18 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         .copied()
         .filter(|i| !done.contains_key(i))
         .collect();
+    if opts.check {
+        let done: Vec<u32> = frames
+            .iter()
+            .copied()
+            .filter(|i| !todo.contains(i))
+            .collect();
+        println!(
+            "{}",
+            json!({"frames": base.config.frames, "done": done, "todo": todo})
+        );
+        return Ok(Summary::default());
+    }
     let mut summary = Summary {
         skipped: (frames.len() - todo.len()) as u32,
         ..Summary::default()
@@ -195,12 +209,4 @@ fn progress(total: u64, quiet: bool) -> Option<ProgressBar> {
         );
         b
     })
-}
-
-/// The frame paths of a dataset folder, for tools and tests.
-pub fn frame_stem(out: &Path, i: u32) -> PathBuf {
-    Out {
-        root: out.to_path_buf(),
-    }
-    .stem(i)
 }
