@@ -438,3 +438,55 @@ fn bad_input_is_refused_before_any_frame_renders() {
     ok(&dataset(&cfg2, &out, &["--force", "--frames", "0"]));
     assert_eq!(manifest(&out), vec![0]);
 }
+
+/// Frames that change only camera, lights and materials reuse the first frame's geometry (a
+/// mesh among it): one build for the run, and each frame byte-identical to a fresh build of it.
+#[test]
+fn frames_that_keep_their_geometry_build_it_once_and_match_fresh_builds() {
+    let dir = workdir("geometry");
+    let ds = root().join("configs/datasets");
+    let base = std::fs::read_to_string(ds.join("scenes/tabletop.ron"))
+        .unwrap()
+        .replace(
+            "\"../../../scenes/textures/sky.exr\"",
+            &format!("{:?}", root().join("scenes/textures/sky.exr")),
+        )
+        .replace(
+            "    shapes: [\n",
+            &format!(
+                "    shapes: [\n        (name: \"prism\", shape: Mesh(path: {:?}), material: \"plastic\", to_world: [Scale((0.15, 0.15, 0.15)), Translate((0.5, 0.9, -0.4))]),\n",
+                root().join("scenes/meshes/prism.obj")
+            ),
+        );
+    std::fs::write(dir.join("base.ron"), base).unwrap();
+    let cfg = config(&dir, |t| {
+        let a = t.find("    objects: (").unwrap();
+        let b = a + t[a..].find("\n    ),\n").unwrap() + "\n    ),\n".len();
+        let t = format!("{}{}", &t[..a], &t[b..]);
+        t.replace(
+            &format!("{:?}", ds.join("scenes/tabletop.ron")),
+            &format!("{:?}", dir.join("base.ron")),
+        )
+    });
+    let full = dir.join("full");
+    let o = dataset(&cfg, &full, &[]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("8 rendered") && err.contains("geometry built 1 time(s)"),
+        "{err}"
+    );
+    let want = frames(&full);
+    let alone = dir.join("alone");
+    for i in ["3", "6"] {
+        ok(&dataset(&cfg, &alone, &["--frames", i]));
+    }
+    let got = frames(&alone);
+    assert_eq!(got.len(), 6);
+    for (name, bytes) in got {
+        assert!(
+            want[&name] == bytes,
+            "{name}: reused geometry differs from a fresh build"
+        );
+    }
+}

@@ -107,7 +107,8 @@ impl Out {
                 .map_err(|e| Error::io(&self.root, e))?
                 .filter_map(|e| e.ok())
                 .map(|e| e.file_name().to_string_lossy().into_owned())
-                .filter(|n| n != LOCK)
+                // The lock, and temporary files of a run killed while claiming the folder.
+                .filter(|n| n != LOCK && !(n.starts_with('.') && n.contains(".tmp.")))
                 .collect();
             if !foreign.is_empty() && !force {
                 return Err(InputError::new(

@@ -149,11 +149,19 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         .outputs
         .preview
         .then_some(base.config.outputs.exposure);
+    let mut cache = frame::GeometryCache::default();
     for (n, &i) in todo.iter().enumerate() {
         let result = plan::plan(&base, i)
             .map_err(Error::from)
             .and_then(|p| {
-                frame::render_frame(p.scene, &base.scene_file, &out.stem(i), &p.params, preview)
+                frame::render_frame(
+                    &mut cache,
+                    p.scene,
+                    &base.scene_file,
+                    &out.stem(i),
+                    &p.params,
+                    preview,
+                )
             })
             .and_then(|r| {
                 let e = out.entry(i, &r.files, r.seconds, r.invalid_samples)?;
@@ -188,12 +196,13 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     }
     summary.seconds = t0.elapsed().as_secs_f64();
     eprintln!(
-        "dataset: {} frame(s) selected: {} rendered, {} skipped (already done), {} failed, in {:.2} s -> {}",
+        "dataset: {} frame(s) selected: {} rendered, {} skipped (already done), {} failed, in {:.2} s (geometry built {} time(s)) -> {}",
         frames.len(),
         summary.rendered,
         summary.skipped,
         summary.failed,
         summary.seconds,
+        cache.builds,
         out.root.display()
     );
     Ok(summary)
