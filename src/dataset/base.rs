@@ -21,6 +21,8 @@ pub struct Base {
     pub bounds: Vec<(Vec3, Vec3)>,
     /// Shape index by name.
     pub names: BTreeMap<String, usize>,
+    /// The base scene as built at load, for the first frame's geometry (`GeometryCache::seed`).
+    pub built: Option<crate::scene::Job>,
 }
 
 /// Where a light variation points.
@@ -72,6 +74,7 @@ impl Base {
             scene,
             bounds,
             names,
+            built: Some(job),
         };
         base.check()?;
         Ok(base)

@@ -41,6 +41,15 @@ fn geometry_key(cfg: &SceneConfig) -> String {
 }
 
 impl GeometryCache {
+    /// A cache holding an already built job (the base scene's, built at load).
+    pub fn seed(job: crate::scene::Job) -> GeometryCache {
+        GeometryCache {
+            key: geometry_key(&job.config),
+            job: Some(job),
+            builds: 1,
+        }
+    }
+
     /// The job for `cfg`: built in full when its geometry differs from the cached one's, else the
     /// cached geometry with everything else built from `cfg`.
     fn job(&mut self, cfg: SceneConfig, file: &Path) -> Result<&crate::scene::Job, Error> {

@@ -72,7 +72,7 @@ pub fn selection(base: &Base, opts: &Options) -> Result<Vec<u32>, InputError> {
 /// Runs the dataset at `file` into `out`.
 pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     let t0 = Instant::now();
-    let base = Base::load(file)?;
+    let mut base = Base::load(file)?;
     let frames = match opts.export_frame {
         Some(i) => selection(
             &base,
@@ -149,7 +149,10 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         .outputs
         .preview
         .then_some(base.config.outputs.exposure);
-    let mut cache = frame::GeometryCache::default();
+    let mut cache = base
+        .built
+        .take()
+        .map_or_else(frame::GeometryCache::default, frame::GeometryCache::seed);
     for (n, &i) in todo.iter().enumerate() {
         let result = plan::plan(&base, i)
             .map_err(Error::from)
