@@ -35,6 +35,9 @@ pub enum Command {
     /// independent implementations; see src/probe.rs).
     #[command(hide = true)]
     ProbeBsdf(ProbeArgs),
+    /// Render a dataset: many frames of one scene with varied cameras, lights, materials and
+    /// objects, seeded per frame, resumable and shardable (configs/README.md).
+    Dataset(crate::dataset::cli::DatasetArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -126,6 +129,10 @@ pub fn main() -> i32 {
             std::io::stdin().lock(),
             std::io::stdout().lock(),
         ),
+        Command::Dataset(args) => match crate::dataset::cli::main(&args) {
+            Ok(code) => return code,
+            Err(e) => Err(e),
+        },
     };
     match result {
         Ok(()) => 0,

@@ -8,6 +8,7 @@ pub mod bsdf;
 pub mod camera;
 pub mod cli;
 pub mod config;
+pub mod dataset;
 pub mod emitter;
 pub mod error;
 pub mod export;

@@ -185,7 +185,36 @@ def export_metals() -> None:
         )
 
 
+def export_reflectances() -> None:
+    """Reflectance libraries for `prism dataset` (materials drawn from a named set): the
+    ColorChecker and the CIE 1995 test colour samples, one column per patch (spaces in the
+    patch names become underscores, since the header is space-separated)."""
+    out = ROOT / "reflectances"
+    sets = [
+        (
+            "colorchecker.txt",
+            "ColorChecker Classic, 24 patches, spectral reflectance, 380-780 nm, 5 nm (row by row from\n"
+            f"dark skin to black). Source: {COLOUR} SDS_COLOURCHECKERS['ColorChecker N Ohta'] (Ohta's\n"
+            "measurements). Units: reflectance factor in [0, 1].",
+            colour.SDS_COLOURCHECKERS["ColorChecker N Ohta"],
+        ),
+        (
+            "cie1995_tcs.txt",
+            "CIE 1995 test colour samples TCS01-TCS14 (CIE 13.3-1995, colour rendering index), spectral\n"
+            f"reflectance, 360-830 nm, 5 nm. Source: {COLOUR} colour.quality.SDS_TCS['CIE 1995'].\n"
+            "Units: reflectance factor in [0, 1].",
+            colour.quality.SDS_TCS["CIE 1995"],
+        ),
+    ]
+    for name, source, sds in sets:
+        sds = list(sds.values())
+        wl = sds[0].wavelengths
+        cols = [sd.name.replace(" ", "_") for sd in sds]
+        write(out / name, source, cols, wl, np.stack([sd.values for sd in sds], axis=1))
+
+
 if __name__ == "__main__":
     export_cmfs()
     export_illuminants()
     export_metals()
+    export_reflectances()

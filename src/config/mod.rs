@@ -492,6 +492,9 @@ pub(crate) fn unit_scale() -> (f32, f32) {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ShapeConfig {
+    /// A name by which a dataset config (`prism dataset`) refers to this shape. Optional.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
     pub shape: ShapeKind,
     #[serde(default)]
     pub material: Option<String>,

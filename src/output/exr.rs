@@ -44,6 +44,10 @@ pub fn write(film: &Film, path: &Path, extra: &[(String, String)]) -> Result<(),
     );
     let image = Image::empty(attrs).with_layer(layer);
     super::write_atomic(path, |tmp| {
-        image.write().to_file(tmp).map_err(|e| e.to_string())
+        image.write().to_file(tmp).map_err(|e| e.to_string())?;
+        // Same content, same bytes (the crate writes attributes in hash-map order).
+        let mut bytes = std::fs::read(tmp).map_err(|e| e.to_string())?;
+        super::exr_header::sort_attributes(&mut bytes);
+        std::fs::write(tmp, bytes).map_err(|e| e.to_string())
     })
 }

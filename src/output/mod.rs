@@ -3,6 +3,7 @@
 //! image behind and never replaces a good one with a broken one.
 
 pub mod exr;
+pub mod exr_header;
 pub mod guard;
 pub mod interrupt;
 pub mod png;

@@ -213,6 +213,7 @@ pub fn scene_config(path: &Path) -> Result<(SceneConfig, Vec<String>), InputErro
         emitter: None,
         to_world: Vec::new(),
         flip_normals: false,
+        name: None,
     });
     let emissive = w.primitives.iter().any(|p| {
         let m = match p.material {

@@ -1,0 +1,257 @@
+//! The dataset config (RON): a base scene, how many frames, a seed, what each frame writes, and
+//! how named elements of the scene vary from frame to frame. `configs/README.md` documents it.
+//!
+//! ```ron
+//! (
+//!     scene: "tabletop.ron",              // relative to this file
+//!     frames: 100,
+//!     seed: 7,
+//!     outputs: (preview: true, spp: 32),
+//!     camera: (
+//!         look_at: Shell(target: (0, 0.3, 0), radius: (2.5, 3.5), elevation: (15, 45), azimuth: (0, 360)),
+//!         fov: (30, 45), roll: 3, keep_in_view: ["mug"],
+//!     ),
+//!     lights: [(target: "lamp", intensity: (5, 20), temperature: (2700, 6500))],
+//!     materials: [(target: "paint", reflectance: Library("colorchecker"), roughness: (0.05, 0.4))],
+//!     swaps: [(shape: "mug", materials: ["paint", "glass"])],
+//!     objects: (
+//!         subsets: [(shapes: ["mug", "ball", "box"], shown: (1, 3))],
+//!         place: (support: "table", shapes: ["mug", "ball", "box"], yaw: (0, 360), scale: (0.8, 1.2)),
+//!     ),
+//! )
+//! ```
+
+use crate::error::{Error, InputError};
+use ron::extensions::Extensions;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A whole dataset config.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DatasetConfig {
+    /// The base scene file, relative to the dataset config.
+    pub scene: String,
+    /// Number of frames (indices 0 .. frames).
+    pub frames: u32,
+    /// Dataset seed: frame i's parameters and render seed derive from (seed, i) alone.
+    #[serde(default)]
+    pub seed: u64,
+    #[serde(default)]
+    pub outputs: FrameOutputs,
+    #[serde(default)]
+    pub camera: Option<CameraVariation>,
+    /// Intensity and colour temperature of named lights.
+    #[serde(default)]
+    pub lights: Vec<LightVariation>,
+    /// An environment map from a list, rotated about +y.
+    #[serde(default)]
+    pub envmap: Option<EnvmapVariation>,
+    /// Parameters of named materials.
+    #[serde(default)]
+    pub materials: Vec<MaterialVariation>,
+    /// A named shape's material chosen from a list.
+    #[serde(default)]
+    pub swaps: Vec<MaterialSwap>,
+    #[serde(default)]
+    pub objects: ObjectVariation,
+}
+
+/// `outputs: (preview: true, exposure: 0, spp: 16, resolution: (128, 96))`: what each frame writes besides its EXR and
+/// JSON. The EXR carries every channel the base scene's `outputs` asks for.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FrameOutputs {
+    /// Also write an 8-bit sRGB preview `OUT/frames/NNNNNN.png`. Default false.
+    pub preview: bool,
+    /// Exposure of the preview in stops. Default 0.
+    pub exposure: f32,
+    /// Samples per pixel for every frame (overrides the scene's `sampler.spp`).
+    pub spp: Option<u32>,
+    /// Image size (width, height) for every frame (overrides the scene's `film`).
+    pub resolution: Option<(u32, u32)>,
+}
+
+/// A closed range `(lo, hi)` sampled uniformly; `lo == hi` is a constant.
+pub type Range = (f32, f32);
+
+/// `camera: (look_at: Shell(..) | Poses([..]), up: (0, 1, 0), fov: (30, 45), roll: 5,
+/// keep_in_view: ["mug"], max_attempts: 100)`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraVariation {
+    /// Where the camera stands and looks; left out, the scene's camera transform stays.
+    #[serde(default)]
+    pub look_at: Option<LookAtVariation>,
+    /// Up vector of the look-at. Default +y.
+    #[serde(default = "y_up")]
+    pub up: [f32; 3],
+    /// Field of view range in degrees (along the scene camera's `fov_axis`).
+    #[serde(default)]
+    pub fov: Option<Range>,
+    /// Roll about the view axis, uniform in [−roll, roll] degrees. Default 0.
+    #[serde(default)]
+    pub roll: f32,
+    /// Shapes whose bounding boxes must lie wholly inside the image; a pose that cuts one is
+    /// drawn again, up to `max_attempts` times.
+    #[serde(default)]
+    pub keep_in_view: Vec<String>,
+    /// Default 100.
+    #[serde(default = "hundred")]
+    pub max_attempts: u32,
+}
+
+fn y_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+
+fn hundred() -> u32 {
+    100
+}
+
+/// How the camera is posed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum LookAtVariation {
+    /// From a point on a spherical shell around `target`: `radius`, `elevation` above the
+    /// xz-plane (degrees, −90..90) and `azimuth` about +y from +z towards +x (degrees).
+    Shell {
+        target: [f32; 3],
+        radius: Range,
+        elevation: Range,
+        azimuth: Range,
+    },
+    /// One of these poses, uniformly.
+    Poses(Vec<Pose>),
+}
+
+/// `(origin: (0, 1, 4), target: (0, 0, 0))`
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pose {
+    pub origin: [f32; 3],
+    pub target: [f32; 3],
+}
+
+/// `(target: "lamp", intensity: (5, 20), temperature: (2700, 6500))`. `target` is a shape's
+/// `name` (its area light) or `"emitters[i]"` (the scene's i-th emitter). `intensity` scales
+/// the light's spectrum; with `temperature` (K) the spectrum becomes a blackbody of unit
+/// luminance (like `Named("D65")`) times `intensity`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightVariation {
+    pub target: String,
+    #[serde(default)]
+    pub intensity: Option<Range>,
+    #[serde(default)]
+    pub temperature: Option<Range>,
+}
+
+/// `envmap: (target: "emitters[0]", files: ["sky1.exr", "sky2.exr"], rotate: true)`: the
+/// `Envmap` emitter `target` takes a file from `files` (relative to the dataset config) and,
+/// with `rotate` (default true), a uniform rotation about +y.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvmapVariation {
+    pub target: String,
+    #[serde(default)]
+    pub files: Vec<String>,
+    #[serde(default = "yes")]
+    pub rotate: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// `(target: "paint", reflectance: Library("colorchecker"), roughness: (0.05, 0.4), ior: (1.4, 1.7))`
+/// on the scene's material `target`: its base reflectance (a diffuse's `reflectance`, a
+/// plastic's `diffuse_reflectance`, a conductor's `specular_reflectance`), its roughness `alpha`
+/// (rough conductors, dielectrics, plastics) and its interior IOR (dielectrics, plastics).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialVariation {
+    pub target: String,
+    #[serde(default)]
+    pub reflectance: Option<ReflectanceSource>,
+    #[serde(default)]
+    pub roughness: Option<Range>,
+    #[serde(default)]
+    pub ior: Option<Range>,
+}
+
+/// Where reflectances come from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ReflectanceSource {
+    /// A measured set in `spectra/reflectances/`: `"colorchecker"` (24 patches) or
+    /// `"cie1995_tcs"` (14 test colour samples); one entry uniformly.
+    Library(String),
+    /// Only these entries of a set: `Patches("colorchecker", ["red", "green", "blue"])`.
+    Patches(String, Vec<String>),
+}
+
+/// `(shape: "mug", materials: ["paint", "glass"])`: the shape's material, uniformly from the list.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSwap {
+    pub shape: String,
+    pub materials: Vec<String>,
+}
+
+/// `objects: (subsets: [..], place: (..))`
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ObjectVariation {
+    pub subsets: Vec<Subset>,
+    pub place: Option<Placement>,
+}
+
+/// `(shapes: ["mug", "ball", "box"], shown: (1, 2))`: a uniform number in `shown` of these
+/// shapes (a uniform subset of that size) appear; the others are left out of the frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Subset {
+    pub shapes: Vec<String>,
+    pub shown: (u32, u32),
+}
+
+/// `(support: "table", shapes: ["mug", "ball"], yaw: (0, 360), scale: (0.8, 1.2), gap: 0.02)`:
+/// each shown shape is scaled about its base, turned about +y, and stood on the top face of the
+/// `support` shape's bounding box (+y up) at a uniform position where its footprint (the circle
+/// around its bounding box, scaled) stays on the support and clear of the others by `gap`;
+/// drawn again up to `max_attempts` times per shape.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    pub support: String,
+    pub shapes: Vec<String>,
+    #[serde(default)]
+    pub yaw: Option<Range>,
+    #[serde(default)]
+    pub scale: Option<Range>,
+    #[serde(default)]
+    pub gap: f32,
+    #[serde(default = "hundred")]
+    pub max_attempts: u32,
+}
+
+impl DatasetConfig {
+    /// Reads and parses a dataset config file (syntax errors with line and column).
+    pub fn load(path: &Path) -> Result<DatasetConfig, Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            InputError::new(path, format!("cannot read the dataset config: {e}"))
+                .hint("check the path")
+        })?;
+        Ok(Self::parse(&text, path)?)
+    }
+
+    pub fn parse(text: &str, file: &Path) -> Result<DatasetConfig, InputError> {
+        let opts = ron::Options::default().with_default_extension(Extensions::IMPLICIT_SOME);
+        opts.from_str::<DatasetConfig>(text).map_err(|e| {
+            InputError::new(file, e.code.to_string())
+                .at(e.span.start.line, e.span.start.col)
+                .hint("configs/README.md lists every field of a dataset config")
+        })
+    }
+}

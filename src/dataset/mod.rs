@@ -1,0 +1,22 @@
+//! `prism dataset`: many frames from one base scene, each with its own draws of named scene
+//! elements (camera, lights, materials, objects), reproducible frame by frame from (dataset
+//! seed, frame index) alone, resumable and shardable. The dataset layer edits the base scene's
+//! config for each frame and renders it through `frame::render_frame`, so every channel a scene
+//! can ask for comes along. configs/README.md documents the config and the output folder.
+
+pub mod apply;
+pub mod base;
+pub mod cli;
+pub mod config;
+pub mod export;
+pub mod frame;
+pub mod library;
+pub mod manifest;
+pub mod place;
+pub mod plan;
+pub mod run;
+pub mod vary;
+
+pub use base::Base;
+pub use config::DatasetConfig;
+pub use plan::{plan, FramePlan};

@@ -1,0 +1,314 @@
+//! Frame i → its scene and its sampled parameters, from (dataset seed, i) alone.
+
+use super::apply::{self, EmitterSlot};
+use super::base::{Base, LightRef};
+use super::config::{LookAtVariation, ReflectanceSource};
+use super::library;
+use super::vary::{shell_point, Rng, Stream};
+use crate::camera::Camera;
+use crate::config::{SceneConfig, SpectrumConfig, TransformOp};
+use crate::error::InputError;
+use crate::spectrum::Curve;
+use glam::Vec3;
+use serde_json::{json, Value};
+use std::path::Path;
+
+/// One frame, resolved.
+pub struct FramePlan {
+    pub index: u32,
+    /// The render seed (`sampler.seed` of `scene`).
+    pub seed: u64,
+    /// The scene to render (relative paths still relative to the base scene file).
+    pub scene: SceneConfig,
+    /// What was drawn, for the frame's JSON.
+    pub params: Value,
+}
+
+/// Plans frame `i` of `base`.
+pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
+    let c = &base.config;
+    let mut scene = base.scene.clone();
+    let mut params = serde_json::Map::new();
+    let seed = Rng::new(c.seed, i, Stream::Render).next_u64();
+    scene.sampler.seed = seed;
+    if let Some(spp) = c.outputs.spp {
+        scene.sampler.spp = spp;
+    }
+    if let Some((w, h)) = c.outputs.resolution {
+        scene.film.width = w;
+        scene.film.height = h;
+    }
+    params.insert("frame".into(), json!(i));
+    params.insert("render_seed".into(), json!(seed));
+    params.insert("spp".into(), json!(scene.sampler.spp));
+
+    // Objects first: the camera keeps the placed ones in view.
+    let mut shown = vec![true; scene.shapes.len()];
+    let mut subsets = Vec::new();
+    for (k, s) in c.objects.subsets.iter().enumerate() {
+        let mut r = Rng::new(c.seed, i, Stream::Subset(k));
+        let n = r.int(s.shown.0, s.shown.1) as usize;
+        let pick = r.subset(s.shapes.len(), n);
+        for (j, name) in s.shapes.iter().enumerate() {
+            shown[base.names[name]] = pick.contains(&j);
+        }
+        subsets.push(json!(pick
+            .iter()
+            .map(|&j| &s.shapes[j])
+            .collect::<Vec<_>>()));
+    }
+    if !subsets.is_empty() {
+        params.insert("shown".into(), Value::Array(subsets));
+    }
+    let mut bounds = base.bounds.clone();
+    if let Some(p) = &c.objects.place {
+        let placed = super::place::place(base, p, i, &shown, &mut scene, &mut bounds)?;
+        params.insert("placement".into(), placed);
+    }
+
+    if let Some(cam) = &c.camera {
+        let mut r = Rng::new(c.seed, i, Stream::Camera);
+        let watched: Vec<usize> = cam
+            .keep_in_view
+            .iter()
+            .map(|n| base.names[n])
+            .filter(|&k| shown[k])
+            .collect();
+        let mut found = None;
+        for attempt in 1..=cam.max_attempts {
+            let (origin, target) = match &cam.look_at {
+                Some(LookAtVariation::Shell {
+                    target,
+                    radius,
+                    elevation,
+                    azimuth,
+                }) => {
+                    let t = Vec3::from(*target);
+                    let o =
+                        shell_point(t, r.range(*radius), r.range(*elevation), r.range(*azimuth));
+                    (Some(o.to_array()), Some(*target))
+                }
+                Some(LookAtVariation::Poses(p)) => {
+                    let pose = &p[r.index(p.len())];
+                    (Some(pose.origin), Some(pose.target))
+                }
+                None => (None, None),
+            };
+            let fov = cam.fov.map_or(scene.camera.fov, |f| r.range(f));
+            let roll = if cam.roll > 0.0 {
+                r.symmetric(cam.roll)
+            } else {
+                0.0
+            };
+            let mut ops = Vec::new();
+            if roll != 0.0 {
+                ops.push(TransformOp::Rotate {
+                    axis: [0.0, 0.0, 1.0],
+                    angle: roll,
+                });
+            }
+            match (origin, target) {
+                (Some(origin), Some(target)) => ops.push(TransformOp::LookAt {
+                    origin,
+                    target,
+                    up: cam.up,
+                }),
+                _ => ops.extend(scene.camera.to_world.iter().cloned()),
+            }
+            let mut cfg = scene.camera.clone();
+            cfg.fov = fov;
+            cfg.to_world = ops;
+            if in_view(&cfg, &scene, &base.file, &watched, &bounds)? {
+                found = Some((
+                    cfg,
+                    json!({
+                        "origin": origin, "target": target, "up": cam.up,
+                        "fov": fov, "roll": roll, "attempts": attempt,
+                    }),
+                ));
+                break;
+            }
+        }
+        let Some((cfg, p)) = found else {
+            return Err(InputError::new(
+                &base.file,
+                format!(
+                    "frame {i}: no camera pose in {} attempts keeps every shape of keep_in_view wholly in the image",
+                    cam.max_attempts
+                ),
+            )
+            .field("camera.keep_in_view")
+            .hint("widen the fov, move the shell farther out, narrow its angles, or raise max_attempts"));
+        };
+        scene.camera = cfg;
+        params.insert("camera".into(), p);
+    }
+
+    let mut lights = Vec::new();
+    for (k, l) in c.lights.iter().enumerate() {
+        let mut r = Rng::new(c.seed, i, Stream::Light(k));
+        let intensity = l.intensity.map(|x| r.range(x));
+        let temperature = l.temperature.map(|x| r.range(x));
+        let new = |old: &SpectrumConfig| match temperature {
+            // A blackbody of unit luminance, like the named illuminants, times the intensity.
+            Some(t) => {
+                let y = Curve::Blackbody {
+                    kelvin: t,
+                    scale: 1.0,
+                }
+                .luminance();
+                SpectrumConfig::Scaled(
+                    intensity.unwrap_or(1.0) / y,
+                    Box::new(SpectrumConfig::Blackbody(t)),
+                )
+            }
+            None => SpectrumConfig::Scaled(intensity.unwrap_or(1.0), Box::new(old.clone())),
+        };
+        match base.light(&l.target, "lights")? {
+            LightRef::Shape(s) => {
+                let e = scene.shapes[s].emitter.as_mut().expect("checked at load");
+                e.radiance = new(&e.radiance);
+            }
+            LightRef::Emitter(e) => match apply::emitter_slot(&mut scene.emitters[e]) {
+                EmitterSlot::Spectrum(s) => *s = new(s),
+                EmitterSlot::Scale(s) => *s *= intensity.unwrap_or(1.0),
+            },
+        }
+        lights
+            .push(json!({"target": l.target, "intensity": intensity, "temperature": temperature}));
+    }
+    if !lights.is_empty() {
+        params.insert("lights".into(), Value::Array(lights));
+    }
+
+    if let Some(e) = &c.envmap {
+        let mut r = Rng::new(c.seed, i, Stream::Envmap);
+        let file = (!e.files.is_empty()).then(|| &e.files[r.index(e.files.len())]);
+        let angle = if e.rotate { r.range((0.0, 360.0)) } else { 0.0 };
+        let Ok(LightRef::Emitter(k)) = base.light(&e.target, "envmap.target") else {
+            unreachable!("checked at load")
+        };
+        if let crate::config::EmitterConfig::Envmap {
+            filename, to_world, ..
+        } = &mut scene.emitters[k]
+        {
+            if let Some(f) = file {
+                let dir = base.file.parent().unwrap_or(Path::new("."));
+                *filename = absolute(&dir.join(f));
+            }
+            if e.rotate {
+                to_world.push(apply::yaw(angle));
+            }
+        }
+        params.insert("envmap".into(), json!({"file": file, "rotation": angle}));
+    }
+
+    let mut mats = Vec::new();
+    for (k, m) in c.materials.iter().enumerate() {
+        let mut r = Rng::new(c.seed, i, Stream::Material(k));
+        let range = scene.spectral.range;
+        let mat = scene.materials.get_mut(&m.target).expect("checked at load");
+        let mut entry = None;
+        if let Some(src) = &m.reflectance {
+            let (set, only) = match src {
+                ReflectanceSource::Library(s) => (s, None),
+                ReflectanceSource::Patches(s, p) => (s, Some(p)),
+            };
+            let t = library::set(set).expect("checked at load");
+            let col = match only {
+                None => r.index(t.columns.len()),
+                Some(p) => {
+                    let name = &p[r.index(p.len())];
+                    t.columns
+                        .iter()
+                        .position(|c| c == name)
+                        .expect("checked at load")
+                }
+            };
+            *apply::reflectance_slot(mat).expect("checked at load") =
+                library::spectrum(&t, col, range);
+            entry = Some(format!("{set}/{}", t.columns[col]));
+        }
+        let roughness = m.roughness.map(|x| r.range(x));
+        if let Some(a) = roughness {
+            apply::set_roughness(mat, a);
+        }
+        let ior = m.ior.map(|x| r.range(x));
+        if let Some(n) = ior {
+            apply::set_ior(mat, n);
+        }
+        mats.push(
+            json!({"target": m.target, "reflectance": entry, "roughness": roughness, "ior": ior}),
+        );
+    }
+    if !mats.is_empty() {
+        params.insert("materials".into(), Value::Array(mats));
+    }
+
+    let mut swaps = Vec::new();
+    for (k, s) in c.swaps.iter().enumerate() {
+        let mut r = Rng::new(c.seed, i, Stream::Swap(k));
+        let m = &s.materials[r.index(s.materials.len())];
+        scene.shapes[base.names[&s.shape]].material = Some(m.clone());
+        swaps.push(json!({"shape": s.shape, "material": m}));
+    }
+    if !swaps.is_empty() {
+        params.insert("swaps".into(), Value::Array(swaps));
+    }
+
+    // Hidden shapes go last: every index above refers to the base scene's shapes.
+    let mut k = 0;
+    scene.shapes.retain(|_| {
+        k += 1;
+        shown[k - 1]
+    });
+    Ok(FramePlan {
+        index: i,
+        seed,
+        scene,
+        params: Value::Object(params),
+    })
+}
+
+/// Whether every corner of each watched shape's bounds projects inside the image.
+fn in_view(
+    cam: &crate::config::CameraConfig,
+    scene: &SceneConfig,
+    file: &Path,
+    watched: &[usize],
+    bounds: &[(Vec3, Vec3)],
+) -> Result<bool, InputError> {
+    if watched.is_empty() {
+        return Ok(true);
+    }
+    let t = crate::scene::transform(&cam.to_world, file, "camera")?;
+    let f = &scene.film;
+    let camera = Camera::new(
+        t,
+        cam.fov,
+        cam.fov_axis,
+        cam.near_clip,
+        cam.far_clip,
+        f.width,
+        f.height,
+    );
+    Ok(watched.iter().all(|&k| {
+        let (lo, hi) = bounds[k];
+        (0..8).all(|c| {
+            let p = Vec3::new(
+                if c & 1 == 0 { lo.x } else { hi.x },
+                if c & 2 == 0 { lo.y } else { hi.y },
+                if c & 4 == 0 { lo.z } else { hi.z },
+            );
+            camera.project(p, 0.0).is_some()
+        })
+    }))
+}
+
+/// `p` as an absolute path string (so the frame's scene finds it from anywhere).
+pub fn absolute(p: &Path) -> String {
+    std::path::absolute(p)
+        .unwrap_or_else(|_| p.to_path_buf())
+        .to_string_lossy()
+        .into_owned()
+}

@@ -1,0 +1,224 @@
+//! The loop: load the dataset once, check every selected frame's plan, claim the output folder,
+//! then render each frame not yet done and list it in the manifest.
+
+use super::base::Base;
+use super::frame;
+use super::manifest::Out;
+use super::plan;
+use crate::error::{Error, InputError};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::json;
+use sha2::{Digest, Sha256};
+use std::io::IsTerminal;
+use std::path::Path;
+use std::time::Instant;
+
+/// What to run.
+pub struct Options {
+    /// Frames `lo..hi` (half-open); None: all.
+    pub frames: Option<(u32, u32)>,
+    /// (this shard, number of shards): frame i belongs to shard i mod n.
+    pub shard: (u32, u32),
+    pub force: bool,
+    pub quiet: bool,
+    /// Write frame i's resolved scene instead of rendering.
+    pub export_frame: Option<u32>,
+    /// Check and claim the folder, print what is done and what is left (JSON), render nothing.
+    pub check: bool,
+}
+
+/// The run's tally.
+#[derive(Debug, Default)]
+pub struct Summary {
+    pub rendered: u32,
+    pub skipped: u32,
+    pub failed: u32,
+    pub seconds: f64,
+}
+
+/// The identity of a dataset in `dataset.json`: its config, its base scene and prism's version,
+/// with a hash of the first two.
+pub fn identity(base: &Base) -> serde_json::Value {
+    let config = serde_json::to_value(&base.config).expect("configs serialise");
+    let scene = serde_json::to_value(&base.scene).expect("configs serialise");
+    let canon = serde_json::to_string(&json!({"config": config, "scene": scene}))
+        .expect("JSON values serialise");
+    json!({
+        "prism_version": env!("CARGO_PKG_VERSION"),
+        "hash": super::manifest::hex(&Sha256::digest(canon.as_bytes())),
+        "config": config,
+        "scene": scene,
+    })
+}
+
+/// The frames this process renders: the range, then this shard's share of it.
+pub fn selection(base: &Base, opts: &Options) -> Result<Vec<u32>, InputError> {
+    let n = base.config.frames;
+    let (lo, hi) = opts.frames.unwrap_or((0, n));
+    if lo >= hi || hi > n {
+        return Err(InputError::new(
+            &base.file,
+            format!("--frames {lo}..{hi}: the dataset has frames 0..{n}"),
+        )
+        .field("--frames")
+        .hint(format!(
+            "give a frame below {n}, or a range lo..hi with lo < hi ≤ {n}"
+        )));
+    }
+    let (shard, shards) = opts.shard;
+    Ok((lo..hi).filter(|i| i % shards == shard).collect())
+}
+
+/// Runs the dataset at `file` into `out`.
+pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
+    let t0 = Instant::now();
+    let mut base = Base::load(file)?;
+    let frames = match opts.export_frame {
+        Some(i) => selection(
+            &base,
+            &Options {
+                frames: Some((i, i + 1)),
+                shard: (0, 1),
+                ..*opts
+            },
+        )?,
+        None => selection(&base, opts)?,
+    };
+    // Every frame's draws are checked (placement, keep-in-view) before any renders.
+    for &i in &frames {
+        plan::plan(&base, i)?;
+    }
+    let out = Out {
+        root: out.to_path_buf(),
+    };
+    out.prepare(&identity(&base), opts.force, file)?;
+    let scene_dir = base
+        .scene_file
+        .parent()
+        .unwrap_or(Path::new("."))
+        .to_path_buf();
+
+    if let Some(i) = opts.export_frame {
+        let p = plan::plan(&base, i)?;
+        let text = super::export::scene_ron(p.scene, &scene_dir).map_err(Error::Other)?;
+        let path = out.stem(i).with_extension("ron");
+        crate::output::write_atomic(&path, |tmp| {
+            std::fs::write(
+                tmp,
+                format!(
+                    "// frame {i} of {} (prism dataset --export-frame)\n{text}\n",
+                    file.display()
+                ),
+            )
+            .map_err(|e| e.to_string())
+        })?;
+        eprintln!(
+            "wrote {}; `prism render {} -o frame.exr` renders frame {i}",
+            path.display(),
+            path.display()
+        );
+        return Ok(Summary::default());
+    }
+
+    let done = out.done()?;
+    let todo: Vec<u32> = frames
+        .iter()
+        .copied()
+        .filter(|i| !done.contains_key(i))
+        .collect();
+    if opts.check {
+        let done: Vec<u32> = frames
+            .iter()
+            .copied()
+            .filter(|i| !todo.contains(i))
+            .collect();
+        println!(
+            "{}",
+            json!({"frames": base.config.frames, "done": done, "todo": todo})
+        );
+        return Ok(Summary::default());
+    }
+    let mut summary = Summary {
+        skipped: (frames.len() - todo.len()) as u32,
+        ..Summary::default()
+    };
+    std::fs::create_dir_all(out.frames_dir()).map_err(|e| Error::io(&out.frames_dir(), e))?;
+    let bar = progress(todo.len() as u64, opts.quiet);
+    let preview = base
+        .config
+        .outputs
+        .preview
+        .then_some(base.config.outputs.exposure);
+    let mut cache = base
+        .built
+        .take()
+        .map_or_else(frame::GeometryCache::default, frame::GeometryCache::seed);
+    for (n, &i) in todo.iter().enumerate() {
+        let result = plan::plan(&base, i)
+            .map_err(Error::from)
+            .and_then(|p| {
+                frame::render_frame(
+                    &mut cache,
+                    p.scene,
+                    &base.scene_file,
+                    &out.stem(i),
+                    &p.params,
+                    preview,
+                )
+            })
+            .and_then(|r| {
+                let e = out.entry(i, &r.files, r.seconds, r.invalid_samples)?;
+                out.append(&e)?;
+                Ok(r)
+            });
+        match result {
+            Ok(r) => {
+                summary.rendered += 1;
+                let msg = format!("frame {i} in {:.2} s", r.seconds);
+                match &bar {
+                    Some(b) => {
+                        b.set_message(msg);
+                        b.inc(1);
+                    }
+                    None if !opts.quiet => eprintln!("{msg} [{}/{}]", n + 1, todo.len()),
+                    None => {}
+                }
+            }
+            Err(e) => {
+                summary.failed += 1;
+                let line = format!("error: frame {i}: {e}");
+                match &bar {
+                    Some(b) => b.println(line),
+                    None => eprintln!("{line}"),
+                }
+            }
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    summary.seconds = t0.elapsed().as_secs_f64();
+    eprintln!(
+        "dataset: {} frame(s) selected: {} rendered, {} skipped (already done), {} failed, in {:.2} s (geometry built {} time(s)) -> {}",
+        frames.len(),
+        summary.rendered,
+        summary.skipped,
+        summary.failed,
+        summary.seconds,
+        cache.builds,
+        out.root.display()
+    );
+    Ok(summary)
+}
+
+/// A bar over frames with ETA on a terminal; None otherwise (a line per frame instead).
+fn progress(total: u64, quiet: bool) -> Option<ProgressBar> {
+    (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {msg}  ETA {eta}")
+                .expect("valid template"),
+        );
+        b
+    })
+}
