@@ -80,7 +80,8 @@ pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
         "version": 1,
         "source": scene_file.canonicalize().unwrap_or_else(|_| scene_file.to_path_buf()),
         "camera": {
-            "to_world": rows(&cam.to_world.m),
+            "model": cam.model(),
+            "to_world": rows(&cam.to_world().m),
             "fov_x_deg": 2.0 * cam.tan_half_fov().x.atan().to_degrees(),
             "near_clip": cam.near_clip(),
             "far_clip": cam.far_clip(),

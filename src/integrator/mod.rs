@@ -1,6 +1,7 @@
 //! Rendering: the image is cut into tiles rendered in parallel; every pixel takes all its
 //! samples in order, so its value depends only on (scene, seed, pixel) and never on threads.
 
+pub mod aov;
 pub mod caustics;
 pub mod path;
 
@@ -175,7 +176,7 @@ fn render_tile<const N: usize>(
                 let offset = settings.filter.sample(sampler.next_2d());
                 let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
                 let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
-                let ray = scene.camera.ray(film);
+                let ray = scene.camera.ray(film, &mut sampler);
                 let mut l = radiance(
                     scene,
                     ray,

@@ -4,6 +4,7 @@
 
 pub mod exr;
 pub mod png;
+pub mod sidecar;
 
 use crate::error::Error;
 use std::path::{Path, PathBuf};

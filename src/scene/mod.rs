@@ -3,9 +3,11 @@
 //! reads it.
 
 mod build;
+mod camera;
 mod emitters;
 mod geometry;
 mod materials;
+mod objects;
 
 use crate::accel::{Accel, AccelKind, Prim};
 use crate::bsdf::Material;
@@ -16,6 +18,7 @@ use crate::ray::Ray;
 use crate::shape::Shape;
 pub use build::{build, load, load_str, Job};
 pub use geometry::transform;
+pub use objects::{Object, Objects};
 
 pub struct Scene {
     pub camera: Camera,
