@@ -179,11 +179,13 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     let total = s.width as u64 * s.height as u64 * s.spp as u64;
     let reporter = Reporter::new(total, args.quiet);
     let t_render = Instant::now();
-    let (mut film, stats) =
-        pool.install(|| integrator::render(&job.scene, s, &job.channels, &|n| reporter.add(n)));
+    let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
+    let (mut film, stats, se) = pool.install(|| {
+        integrator::render_film(&job.scene, s, &job.channels, stderr, &|n| reporter.add(n))
+    });
     let render_s = t_render.elapsed().as_secs_f64();
     reporter.finish();
-    let hits = pool.install(|| integrator::aov::add_layers(&job, &mut film));
+    let hits = pool.install(|| integrator::aov::add_layers(&job, &mut film, Some(&se)));
 
     let extra = metadata(args, &job, &stats, render_s);
     output::exr::write(&film, &out, &extra)?;

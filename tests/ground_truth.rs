@@ -31,7 +31,7 @@ fn layers(text: &str, threads: usize) -> Film {
         .unwrap();
     pool.install(|| {
         let mut film = integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
-        aov::add_layers(&job, &mut film);
+        aov::add_layers(&job, &mut film, None);
         film
     })
 }
@@ -194,6 +194,8 @@ fn bad_input_names_file_field_and_fix() {
         r#"(camera: (model: ThinLens(aperture_radius: 0.1, focus_distance: 2)), integrator: (caustics: Some(())))"#,
     );
     assert_eq!(e.field.as_deref(), Some("integrator.caustics"));
+    let e = load_err(r#"(aovs: ["stderr"], integrator: (caustics: Some(())))"#);
+    assert_eq!(e.field.as_deref(), Some("aovs[0]"));
     let e = load_err(r#"(camera: (model: Orthographic()))"#);
     assert_eq!(e.field.as_deref(), Some("camera.model"));
 }

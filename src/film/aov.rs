@@ -14,6 +14,8 @@
 //!   Instance ids are 1 + the shape's index in `shapes`, label ids 1 + the label's index in the
 //!   sidecar's sorted `labels`, material ids 1 + the material's index in the sidecar's
 //!   `materials`; 32-bit unsigned EXR channels.
+//! - `stderr`: each pixel's standard error of Y and of every band, √(s²/spp) with s² the
+//!   unbiased variance of its camera samples' contributions (the colour channels are unchanged).
 
 /// One AOV layer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -30,10 +32,11 @@ pub enum Aov {
     Label,
     Material,
     Alpha,
+    Stderr,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 12] = [
+    pub const ALL: [Aov; 13] = [
         Aov::Distance,
         Aov::Depth,
         Aov::Position,
@@ -46,6 +49,7 @@ impl Aov {
         Aov::Label,
         Aov::Material,
         Aov::Alpha,
+        Aov::Stderr,
     ];
 
     /// The name in `aovs: [...]` and `--aovs`, and the EXR layer's name.
@@ -63,6 +67,7 @@ impl Aov {
             Aov::Label => "label",
             Aov::Material => "material",
             Aov::Alpha => "alpha",
+            Aov::Stderr => "stderr",
         }
     }
 
@@ -78,6 +83,8 @@ impl Aov {
             Aov::Uv => &["U", "V"],
             Aov::Instance | Aov::Label | Aov::Material => &["ID"],
             Aov::Alpha => &["A"],
+            // And one per spectral band, named as the band (`stderr.S0.550,000000nm`).
+            Aov::Stderr => &["Y"],
         }
     }
 
@@ -101,6 +108,7 @@ impl Aov {
             Aov::Label => "id of the shape's label (labels; 0: none or unlabelled)",
             Aov::Material => "1 + index of the shape's material (materials; 0: none)",
             Aov::Alpha => "fraction of the pixel's camera samples that hit a surface (filtered like radiance)",
+            Aov::Stderr => "standard error of the pixel's Y and of each band (stderr.S0.<λ>nm) from the spread of its camera samples: sqrt(sample variance / spp)",
         }
     }
 

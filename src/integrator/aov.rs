@@ -13,13 +13,40 @@ use rayon::prelude::*;
 
 /// Runs the AOV pass: adds the layers `job.aovs` asks for to `film` and returns the
 /// pixel-centre hits (the sidecar's boxes come from them, with or without AOV layers).
-pub fn add_layers(job: &crate::scene::Job, film: &mut crate::film::Film) -> Vec<Option<Hit>> {
+/// `stderr`: the standard errors `render_film` returned (needed when `job.aovs` has `stderr`).
+pub fn add_layers(
+    job: &crate::scene::Job,
+    film: &mut crate::film::Film,
+    stderr: Option<&[f32]>,
+) -> Vec<Option<Hit>> {
     let s = &job.settings;
     let hits = first_hits(&job.scene, s.width, s.height);
     let (floats, ids) = layers(&job.scene, s, &hits, &job.aovs, &job.objects.label_ids());
     film.channels.extend(floats);
     film.uint_channels.extend(ids);
+    if let (true, Some(se)) = (job.aovs.contains(&Aov::Stderr), stderr) {
+        film.channels.extend(stderr_layers(se, &job.channels));
+    }
     hits
+}
+
+/// `stderr.Y` and one `stderr.<band>` per band, from per-pixel slot standard errors.
+fn stderr_layers(se: &[f32], channels: &crate::film::FilmChannels) -> Vec<Channel> {
+    let slots = crate::sensor::XYZ_SLOTS + channels.bands.map_or(0, |b| b.count as usize);
+    let pick = |slot: usize| se.iter().skip(slot).step_by(slots).copied().collect();
+    let mut out = vec![Channel {
+        name: "stderr.Y".into(),
+        data: pick(1),
+    }];
+    if let Some(b) = channels.bands {
+        for k in 0..b.count {
+            out.push(Channel {
+                name: format!("stderr.{}", crate::film::spectral_channel_name(b.center(k))),
+                data: pick(crate::sensor::XYZ_SLOTS + k as usize),
+            });
+        }
+    }
+    out
 }
 
 /// The surface a pixel-centre ray meets.
@@ -137,6 +164,7 @@ pub fn layers(
             Aov::Uv => push(&mut floats, aov, &|h| {
                 h.map_or([0.0; 3], |h| [h.uv.x, h.uv.y, 0.0])
             }),
+            Aov::Stderr => {} // from the colour pass: `add_layers`
             Aov::Alpha => floats.push(Channel {
                 name: "alpha.A".into(),
                 data: coverage(scene, settings),

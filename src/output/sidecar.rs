@@ -172,7 +172,11 @@ pub fn write(
         .map(|a| {
             json!({
                 "name": a.name(),
-                "channels": a.channels().iter().map(|c| format!("{}.{c}", a.name())).collect::<Vec<_>>(),
+                "channels": a.channels().iter().map(|c| format!("{}.{c}", a.name()))
+                    .chain(c.bands.filter(|_| *a == crate::film::Aov::Stderr).into_iter().flat_map(|b| {
+                        (0..b.count).map(move |k| format!("stderr.{}", crate::film::spectral_channel_name(b.center(k))))
+                    }))
+                    .collect::<Vec<_>>(),
                 "type": if a.is_id() { "uint32" } else { "float32" },
                 "meaning": a.description(),
             })

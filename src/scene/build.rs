@@ -343,7 +343,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         emitters,
         cfg.accel,
     );
-    let aovs = super::objects::aovs(&cfg.aovs, file)?;
+    let aovs = super::objects::aovs(&cfg.aovs, cfg.integrator.caustics.is_some(), file)?;
     let objects = super::objects::objects(&cfg, &scene, file)?;
     Ok(Job {
         scene,

@@ -173,3 +173,30 @@ def test_spectral_cube_sorted_with_its_wavelengths(render):
     assert np.all(np.diff(r.wavelengths) > 0)
     side = [b["center_nm"] for b in r.sidecar["sensor"]["bands"]["bands"]]
     assert np.allclose(r.wavelengths, side)
+
+
+def test_stderr_matches_spread_across_seeds(render):
+    """stderr.Y and a band's stderr against the spread of the same pixel over 16 seeds (the
+    Independent sampler, whose samples are independent as the formula assumes; Sobol's
+    stratified estimate has a smaller real error, so there stderr is conservative). Mean over
+    ~800 lit pixels of the variance across seeds (ddof 1) against the mean of stderr². The
+    light's paths are heavy-tailed, so the ratio scatters more than Gaussian samples would:
+    three sets of 16 seeds gave 0.996, 0.979, 0.971 (8 seeds: 1.056, 1.084); 12% covers that."""
+    text = """(
+    camera: (fov: 40, to_world: [LookAt(origin: (0, 1, 4), target: (0, 0, 0), up: (0, 1, 0))]),
+    film: (width: 64, height: 48),
+    sampler: (kind: Independent, spp: 8),
+    outputs: (bands: 4, band_range: (400, 700)),
+    shapes: [(shape: Sphere(radius: 1)), (shape: Rectangle, emitter: (radiance: Constant(3)),
+              to_world: [Scale((0.5, 0.5, 1)), Rotate(axis: (1, 0, 0), angle: 90), Translate((0.5, 2, 0))])],
+    aovs: ["stderr"],
+)"""
+    runs = [outputs.read(render(text, "--seed", str(s))) for s in range(16)]
+    for ch in ["Y", "S0.512,500000nm"]:
+        vals = np.stack([r.channels[ch] for r in runs])
+        se = np.stack([r.channels[f"stderr.{ch}"] for r in runs])
+        lit = vals.mean(axis=0) > 0.01 * vals.mean()
+        assert lit.sum() > 600
+        ratio = vals.var(axis=0, ddof=1)[lit].mean() / (se**2)[:, lit].mean()
+        assert abs(ratio - 1) < 0.12, (ch, ratio)
+    assert "stderr.S0.512,500000nm" in runs[0].sidecar["aovs"][0]["channels"]
