@@ -104,7 +104,10 @@ pub fn aovs(names: &[String], caustics: bool, file: &Path) -> Result<Vec<Aov>, I
         let Some(a) = Aov::parse(n.trim()) else {
             return Err(InputError::new(file, format!("unknown AOV \"{n}\""))
                 .field(format!("aovs[{i}]"))
-                .hint(format!("the AOVs are: {}", Aov::names())));
+                .hint(format!(
+                    "the AOVs are: {} (in the scene's `aovs` or `--aovs`)",
+                    Aov::names()
+                )));
         };
         if out.contains(&a) {
             return Err(
