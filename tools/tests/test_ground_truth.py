@@ -200,3 +200,19 @@ def test_stderr_matches_spread_across_seeds(render):
         ratio = vals.var(axis=0, ddof=1)[lit].mean() / (se**2)[:, lit].mean()
         assert abs(ratio - 1) < 0.12, (ch, ratio)
     assert "stderr.S0.512,500000nm" in runs[0].sidecar["aovs"][0]["channels"]
+
+
+def test_orthographic_camera_maps_points_linearly(render):
+    """Orthographic: pixel = K·(x_cam, y_cam) with fx, fy in pixels per unit (the sidecar's K),
+    depth is z_cam, distance equals depth, and every ray is parallel to the optical axis."""
+    r = outputs.read(render(scene(f"model: Orthographic(width: 3.0), {LOOK}", aovs='"position", "depth", "distance", "instance"')))
+    m = outputs.camera_matrices(r.sidecar)
+    assert r.sidecar["camera"]["model"] == "orthographic"
+    assert m["K"][0, 0] == pytest.approx(96 / 3.0)
+    hit = r.layer("instance") > 0
+    pc = r.layer("position")[hit].astype(np.float64) @ m["R"].T + m["t"]
+    uv = pc[:, :2] * m["K"][[0, 1], [0, 1]] + m["K"][[0, 1], [2, 2]]
+    assert hit.sum() > 3000
+    assert np.abs(uv - pixel_grid(*hit.shape)[hit]).max() < 1e-3
+    assert np.allclose(r.layer("depth")[hit], pc[:, 2], atol=1e-5)
+    assert np.array_equal(r.layer("depth"), r.layer("distance"))
