@@ -98,6 +98,10 @@ pub struct RenderArgs {
     /// scene's integrator.clamp). Biased: for previews, never for ground truth.
     #[arg(long)]
     pub clamp: Option<f32>,
+    /// AOV layers, comma-separated (overrides the scene's `aovs`): depth,normal,instance,...
+    /// (`--aovs ""` for none).
+    #[arg(long, value_delimiter = ',')]
+    pub aovs: Option<Vec<String>>,
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -181,6 +185,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         if args.clamp.is_some() {
             cfg.integrator.clamp = args.clamp;
         }
+        if let Some(a) = &args.aovs {
+            cfg.aovs = a.iter().filter(|n| !n.is_empty()).cloned().collect();
+        }
         match args.caustics {
             Some(Switch::On) => {
                 cfg.integrator.caustics = Some(cfg.integrator.caustics.unwrap_or_default())
@@ -218,13 +225,18 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     let total = s.width as u64 * s.height as u64 * s.spp as u64;
     let reporter = Reporter::new(total, args.quiet);
     let t_render = Instant::now();
-    let (film, stats) =
-        pool.install(|| integrator::render(&job.scene, s, &job.channels, &|n| reporter.add(n)));
+    let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
+    let (mut film, stats, se) = pool.install(|| {
+        integrator::render_film(&job.scene, s, &job.channels, stderr, &|n| reporter.add(n))
+    });
     let render_s = t_render.elapsed().as_secs_f64();
     reporter.finish();
+    let hits = pool.install(|| integrator::aov::add_layers(&job, &mut film, Some(&se)));
 
     let extra = metadata(args, &job, &stats, render_s);
     output::exr::write(&film, &out, &extra)?;
+    let sidecar = output::sidecar::path_for(&out);
+    output::sidecar::write(&sidecar, &job, &args.scene, &out, &hits, &stats, render_s)?;
     if let Some(p) = &args.preview {
         output::png::write(&film, p, args.exposure)?;
     }

@@ -8,7 +8,8 @@
 //!
 //! ```text
 //! { "format": "prism-scene", "version": 1, "source": path,
-//!   "camera": {"to_world", "fov_x_deg", "near_clip", "far_clip"},
+//!   "camera": {"model", "to_world", "fov_x_deg", "fov_y_deg", "principal_point_offset_px",
+//!              "near_clip", "far_clip"},
 //!   "film": {"width", "height", "filter": {"type": "box", "radius"} | {"type": "gaussian", "stddev"}},
 //!   "sampler": {"type": "independent" | "sobol", "spp", "seed"},
 //!   "integrator": {"type": "path", "max_depth", "rr_depth", "hide_emitters", "clamp": null | radiance,
@@ -89,7 +90,10 @@ pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
         "version": 1,
         "source": scene_file.canonicalize().unwrap_or_else(|_| scene_file.to_path_buf()),
         "camera": {
-            "to_world": rows(&cam.to_world.m),
+            "model": cam.model(),
+            "principal_point_offset_px": cam.intrinsics().offset.to_array(),
+            "fov_y_deg": 2.0 * cam.tan_half_fov().y.atan().to_degrees(),
+            "to_world": rows(&cam.to_world().m),
             "fov_x_deg": 2.0 * cam.tan_half_fov().x.atan().to_degrees(),
             "near_clip": cam.near_clip(),
             "far_clip": cam.far_clip(),

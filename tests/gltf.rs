@@ -255,7 +255,10 @@ fn orientation_test_comes_out_the_right_way_up() {
     let (i, c) = centroid("ArrowZ1");
     let pr = s.camera.project(c, 0.0).expect("in view");
     let hit = s
-        .intersect(&s.camera.ray(pr.film))
+        .intersect(&s.camera.ray(
+            pr.film,
+            &mut prism::sampler::PixelSampler::new(prism::sampler::SamplerKind::Independent, 0, 0),
+        ))
         .expect("the arrow is hit");
     assert_eq!(
         hit.shape as usize, i,

@@ -11,6 +11,7 @@
 //! )
 //! ```
 
+pub mod camera;
 pub mod ior;
 mod parse;
 pub mod spectrum;
@@ -23,6 +24,7 @@ use crate::integrator::{Dispersion, PathSettings};
 use crate::sampler::SamplerKind;
 use crate::spectrum::WavelengthSampling;
 use crate::texture::{TexFilter, Wrap};
+pub use camera::{CameraModel, DistortionConfig, IntrinsicsConfig};
 pub use ior::{IorConfig, IorForm};
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
@@ -54,6 +56,9 @@ pub struct SceneConfig {
     /// Acceleration structure: `Bvh` (default), `Embree` (needs prism built with the `embree`
     /// feature) or `BruteForce` (for testing).
     pub accel: AccelKind,
+    /// AOV layers beside the colour channels: `aovs: ["depth", "normal", "instance"]`
+    /// (`film::aov`; scenes/README.md lists them).
+    pub aovs: Vec<String>,
 }
 
 /// `camera: (fov: 39.3077, fov_axis: Smaller, near_clip: 0.001, to_world: [LookAt(...)])`
@@ -72,6 +77,12 @@ pub struct CameraConfig {
     pub far_clip: f32,
     /// Camera-to-world transform. Default identity (at the origin, looking along +z).
     pub to_world: Vec<TransformOp>,
+    /// `Pinhole` (default), `ThinLens(aperture_radius, focus_distance)`, `Orthographic(width)`.
+    pub model: CameraModel,
+    /// OpenCV's K `(fx, fy, cx, cy)` (pixels, centres at integers) instead of `fov`.
+    pub intrinsics: Option<IntrinsicsConfig>,
+    /// OpenCV's `(k1, k2, p1, p2, k3)`, rendered exactly.
+    pub distortion: Option<DistortionConfig>,
 }
 
 impl Default for CameraConfig {
@@ -82,6 +93,9 @@ impl Default for CameraConfig {
             near_clip: 0.01,
             far_clip: 1e4,
             to_world: Vec::new(),
+            model: CameraModel::Pinhole,
+            intrinsics: None,
+            distortion: None,
         }
     }
 }
@@ -492,9 +506,6 @@ pub(crate) fn unit_scale() -> (f32, f32) {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ShapeConfig {
-    /// A name by which a dataset config (`prism dataset`) refers to this shape. Optional.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub name: Option<String>,
     pub shape: ShapeKind,
     #[serde(default)]
     pub material: Option<String>,
@@ -505,6 +516,13 @@ pub struct ShapeConfig {
     /// Turn the surface around: its front (emitting, reflecting) side becomes the other one.
     #[serde(default)]
     pub flip_normals: bool,
+    /// The object's name: in the sidecar (unique; default `shape<i>`) and what a dataset config
+    /// (`prism dataset`) refers to the shape by.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// A class label (the `label` AOV's id; shapes may share one).
+    #[serde(default)]
+    pub label: Option<String>,
 }
 
 /// The geometry of a shape, before `to_world`.

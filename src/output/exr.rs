@@ -18,6 +18,11 @@ pub fn write(film: &Film, path: &Path, extra: &[(String, String)]) -> Result<(),
         .channels
         .iter()
         .map(|c| AnyChannel::new(c.name.as_str(), FlatSamples::F32(c.data.clone())))
+        .chain(
+            film.uint_channels
+                .iter()
+                .map(|c| AnyChannel::new(c.name.as_str(), FlatSamples::U32(c.data.clone()))),
+        )
         .collect();
     let mut attrs = ImageAttributes::new(IntegerBounds::from_dimensions(size));
     let mut text = |k: &str, v: &str| -> Result<(), Error> {

@@ -7,6 +7,7 @@ pub mod exr_header;
 pub mod guard;
 pub mod interrupt;
 pub mod png;
+pub mod sidecar;
 
 use crate::error::{Error, InputError};
 use std::path::Path;

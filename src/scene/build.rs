@@ -3,7 +3,6 @@
 
 use super::{emitters, geometry, materials, Scene};
 use crate::bsdf::Material;
-use crate::camera::Camera;
 use crate::config::{self, spectrum_ctx, Role, SceneConfig};
 use crate::emitter::{AreaEmitter, Emitter};
 use crate::error::{Error, InputError};
@@ -27,6 +26,9 @@ pub struct Job {
     pub config: SceneConfig,
     /// Every file the load read (scene, meshes, images, spectra): outputs must not be one.
     pub inputs: Vec<std::path::PathBuf>,
+    /// AOV layers to write (`aovs`), and the objects they and the sidecar name.
+    pub aovs: Vec<crate::film::Aov>,
+    pub objects: super::objects::Objects,
 }
 
 /// Reads, checks and builds the scene file at `path`; `edit` may change the parsed config
@@ -148,15 +150,14 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         )?,
     }
     let cam_t = geometry::transform(&c.to_world, file, "camera.to_world")?;
-    let camera = Camera::new(
+    let camera = super::camera::camera(
+        c,
         cam_t,
-        c.fov,
-        c.fov_axis,
-        c.near_clip,
-        c.far_clip,
-        f.width,
-        f.height,
-    );
+        (f.width, f.height),
+        Filter::new(&f.filter).radius(),
+        cfg.integrator.caustics.is_some(),
+        file,
+    )?;
 
     // Sampler and integrator.
     let s = &cfg.sampler;
@@ -375,6 +376,8 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         cfg.accel,
     );
     scene.shape_name = shape_name;
+    let aovs = super::objects::aovs(&cfg.aovs, cfg.integrator.caustics.is_some(), file)?;
+    let objects = super::objects::objects(&cfg, &scene, file)?;
     Ok(Job {
         scene,
         settings,
@@ -382,5 +385,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         warnings,
         config: cfg,
         inputs: Vec::new(),
+        aovs,
+        objects,
     })
 }

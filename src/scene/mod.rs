@@ -3,11 +3,13 @@
 //! reads it.
 
 mod build;
+mod camera;
 mod emitters;
 mod geometry;
 pub mod gltf;
 pub mod inputs;
 mod materials;
+mod objects;
 mod principled;
 
 use crate::accel::{Accel, AccelKind, Prim};
@@ -19,6 +21,7 @@ use crate::ray::Ray;
 use crate::shape::Shape;
 pub use build::{build, load, load_str, Job};
 pub use geometry::transform;
+pub use objects::{Object, Objects};
 
 pub struct Scene {
     pub camera: Camera,

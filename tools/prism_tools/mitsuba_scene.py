@@ -289,6 +289,15 @@ def convert(scene: dict[str, Any], spp: int | None = None, seed: int = 0) -> dic
     cam, integ = scene["camera"], scene["integrator"]
     if integ["type"] != "path":
         raise Unsupported(f"integrator {integ['type']!r}")
+    if cam.get("model", "pinhole") != "pinhole":
+        raise Unsupported(f"the {cam['model']} camera (the converter writes Mitsuba's perspective camera)")
+    if any(abs(float(v)) > 1e-6 for v in cam.get("principal_point_offset_px", [0, 0])):
+        raise Unsupported("an off-centre principal point (intrinsics with cx, cy away from the image centre)")
+    if "fov_y_deg" in cam:
+        w, h = scene["film"]["width"], scene["film"]["height"]
+        tx, ty = (np.tan(np.radians(float(cam[k])) / 2) for k in ("fov_x_deg", "fov_y_deg"))
+        if abs(ty - tx * h / w) > 1e-5 * tx:
+            raise Unsupported("non-square pixels (intrinsics with fx ≠ fy)")
     if integ.get("clamp") is not None:
         raise Unsupported(f"the integrator clamps radiance at {integ['clamp']} (biased; Mitsuba's path integrator does not clamp)")
     # prism's caustic light tracing estimates paths its path tracer then leaves out: the same

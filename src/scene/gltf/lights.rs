@@ -12,14 +12,14 @@
 //! **Cameras.** glTF cameras look along their local −z with +y up and +x right; prism's look
 //! along +z with +x left, so the camera's world matrix is composed with diag(−1, 1, −1) (a
 //! half-turn about y). `yfov` is the vertical field of view; `aspectRatio` sets the film width
-//! (576 pixels high by default). Orthographic cameras are not supported yet (prism has no
-//! orthographic camera): they are skipped with a warning.
+//! (576 pixels high by default). Orthographic cameras become prism's `Orthographic` model,
+//! 2·xmag wide, with aspect xmag / ymag.
 
 use super::nodes::walk;
 use crate::camera::FovAxis;
 use crate::config::{
-    CameraConfig, EmitterConfig, FilmConfig, SceneConfig, ShapeConfig, ShapeKind, SpectrumConfig,
-    TransformOp,
+    CameraConfig, CameraModel, EmitterConfig, FilmConfig, SceneConfig, ShapeConfig, ShapeKind,
+    SpectrumConfig, TransformOp,
 };
 use crate::error::InputError;
 use crate::spectrum::color::cie1931;
@@ -34,7 +34,7 @@ pub const LUMINOUS_EFFICACY: f32 = 683.0;
 /// A camera found in the node tree.
 pub struct GltfCamera {
     pub name: String,
-    /// None for an orthographic camera (not supported yet).
+    /// Always present (kept optional for cameras a later glTF version may add).
     pub config: Option<CameraConfig>,
     pub aspect: Option<f32>,
 }
@@ -66,14 +66,26 @@ pub fn camera(cam: &gltf::Camera, world: Mat4, node_name: Option<&str>) -> GltfC
                     near_clip: p.znear(),
                     far_clip: p.zfar().unwrap_or(1e4),
                     to_world: vec![matrix_op(world * flip)],
+                    ..CameraConfig::default()
                 }),
                 aspect: p.aspect_ratio(),
             }
         }
-        gltf::camera::Projection::Orthographic(_) => GltfCamera {
+        // xmag and ymag are half the view's width and height.
+        gltf::camera::Projection::Orthographic(o) => GltfCamera {
             name,
-            config: None,
-            aspect: None,
+            config: Some(CameraConfig {
+                model: CameraModel::Orthographic {
+                    width: Some(2.0 * o.xmag()),
+                },
+                near_clip: o.znear(),
+                far_clip: o.zfar(),
+                to_world: vec![matrix_op(
+                    world * Mat4::from_diagonal(Vec4::new(-1.0, 1.0, -1.0, 1.0)),
+                )],
+                ..CameraConfig::default()
+            }),
+            aspect: Some(o.xmag() / o.ymag()),
         },
     }
 }
@@ -149,7 +161,7 @@ pub fn light(l: &gltf::khr_lights_punctual::Light, world: Mat4) -> GltfLight {
     GltfLight { name, emitter }
 }
 
-/// The scene `prism render model.gltf` renders: the model, its first perspective camera (or one
+/// The scene `prism render model.gltf` renders: the model, its first camera (or one
 /// framing it: looking along −z at the centre of its bounding sphere, 40° across the film's
 /// shorter side with 5% margin, +y up), its lights; with no lights and no emissive material, a
 /// uniform white environment (`Constant(radiance: Named("D65"))`, luminance 1).
@@ -159,15 +171,9 @@ pub fn scene_config(path: &Path) -> Result<(SceneConfig, Vec<String>), InputErro
     let w = walk(&model, Mat4::IDENTITY, &mut warnings)?;
     let mut cfg = SceneConfig::default();
     let perspective = w.cameras.iter().find(|c| c.config.is_some());
-    if w.cameras.iter().any(|c| c.config.is_none()) && perspective.is_none() {
-        warnings.push(format!(
-            "{}: orthographic cameras are not supported yet; using a default camera",
-            path.display()
-        ));
-    }
     match perspective {
         Some(c) => {
-            cfg.camera = c.config.clone().expect("a perspective camera");
+            cfg.camera = c.config.clone().expect("a camera");
             if let Some(a) = c.aspect.filter(|a| a.is_finite() && *a > 0.0) {
                 cfg.film = FilmConfig {
                     width: ((576.0 * a).round() as u32).max(1),
@@ -196,6 +202,7 @@ pub fn scene_config(path: &Path) -> Result<(SceneConfig, Vec<String>), InputErro
                     target: centre.into(),
                     up: [0.0, 1.0, 0.0],
                 }],
+                ..CameraConfig::default()
             };
         }
     }
@@ -214,6 +221,7 @@ pub fn scene_config(path: &Path) -> Result<(SceneConfig, Vec<String>), InputErro
         to_world: Vec::new(),
         flip_normals: false,
         name: None,
+        label: None,
     });
     let emissive = w.primitives.iter().any(|p| {
         let m = match p.material {

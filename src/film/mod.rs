@@ -1,6 +1,10 @@
 //! The rendered image: named float channels, one value per pixel, in row-major order (row 0 at
 //! the top). The integrator fills it; the output writers read it.
 
+pub mod aov;
+
+pub use aov::{Aov, UintChannel};
+
 use crate::sensor::{Bands, XYZ_SLOTS};
 use crate::spectrum::color::XYZ_TO_SRGB;
 use glam::Vec3;
@@ -26,6 +30,8 @@ pub struct Film {
     pub channels: Vec<Channel>,
     /// Centre wavelengths of the spectral channels, in channel order after the colour channels.
     pub band_centers: Vec<f32>,
+    /// 32-bit unsigned channels (the id AOVs); float AOVs are in `channels`, after the colours.
+    pub uint_channels: Vec<UintChannel>,
 }
 
 /// The Fichet et al. 2021 name of an emissive spectral channel: `S0.550,000000nm`.
@@ -82,6 +88,7 @@ impl Film {
             height,
             channels,
             band_centers,
+            uint_channels: Vec::new(),
         }
     }
 

@@ -1,5 +1,4 @@
-//! The perspective camera, with Mitsuba 3's conventions: in camera space it looks along +z with
-//! +y up and +x to the left, so a Mitsuba `to_world` or look-at ports unchanged.
+//! The pinhole camera and the film-to-plane map (`Intrinsics`) every model shares.
 
 use crate::math::Transform;
 use crate::ray::Ray;
@@ -22,29 +21,24 @@ pub enum FovAxis {
     Larger,
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub struct Camera {
-    pub to_world: Transform,
-    to_local: Transform,
-    /// tan(half field of view) along x and y.
-    tan_half: Vec2,
-    near_clip: f32,
-    far_clip: f32,
-    width: f32,
-    height: f32,
+/// The map from film positions (pixels) to the camera's plane z = 1 (for the orthographic
+/// camera: to camera-space x, y), and back. In camera space +x is left and +y up, on the film
+/// +x is right and +y down: plane = ((1 − 2(f.x − o.x)/W)·tan_x, (1 − 2(f.y − o.y)/H)·tan_y),
+/// o the principal point's offset from the film centre (zero for a field of view). With
+/// OpenCV's intrinsics that is x_cv = −plane.x = (f.x − 0.5 − cx)/fx, cx in OpenCV's pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Intrinsics {
+    /// tan(half field of view) along x and y (orthographic: the half extent in camera units).
+    pub tan_half: Vec2,
+    /// Principal point minus film centre, in pixels (prism's = OpenCV's: a shift).
+    pub offset: Vec2,
+    pub width: f32,
+    pub height: f32,
 }
 
-impl Camera {
-    /// `fov_deg` in (0, 180), `near_clip` > 0, width and height > 0 (the config checks).
-    pub fn new(
-        to_world: Transform,
-        fov_deg: f32,
-        axis: FovAxis,
-        near_clip: f32,
-        far_clip: f32,
-        width: u32,
-        height: u32,
-    ) -> Self {
+impl Intrinsics {
+    /// From a field of view in (0, 180) degrees along `axis`.
+    pub fn from_fov(fov_deg: f32, axis: FovAxis, width: u32, height: u32) -> Self {
         let (w, h) = (width as f32, height as f32);
         let aspect = w / h;
         let t = (fov_deg.to_radians() * 0.5).tan();
@@ -62,27 +56,111 @@ impl Camera {
             FovAxis::Smaller | FovAxis::Larger => unreachable!(),
         };
         Self {
-            to_world,
-            to_local: to_world.inverse(),
             tan_half: Vec2::new(tan_x, tan_x / aspect),
-            near_clip,
-            far_clip,
+            offset: Vec2::ZERO,
             width: w,
             height: h,
+        }
+    }
+
+    /// From OpenCV's K: focal lengths and principal point in pixels, pixel centres at integers
+    /// (OpenCV's convention, so a calibration's K is used as it is; prism's centres are at
+    /// i + 0.5, hence the half-pixel shift). Orthographic: fx, fy in pixels per camera unit.
+    pub fn from_k(fx: f64, fy: f64, cx: f64, cy: f64, width: u32, height: u32) -> Self {
+        let (w, h) = (width as f64, height as f64);
+        Self {
+            tan_half: Vec2::new((w / (2.0 * fx)) as f32, (h / (2.0 * fy)) as f32),
+            offset: Vec2::new((cx + 0.5 - 0.5 * w) as f32, (cy + 0.5 - 0.5 * h) as f32),
+            width: width as f32,
+            height: height as f32,
+        }
+    }
+
+    /// OpenCV's (fx, fy, cx, cy): pixels, pixel centres at integers (cx = prism's − 0.5).
+    pub fn k_opencv(&self) -> [f64; 4] {
+        let (w, h) = (self.width as f64, self.height as f64);
+        [
+            w / (2.0 * self.tan_half.x as f64),
+            h / (2.0 * self.tan_half.y as f64),
+            0.5 * w + self.offset.x as f64 - 0.5,
+            0.5 * h + self.offset.y as f64 - 0.5,
+        ]
+    }
+
+    /// The point on the plane z = 1 (camera frame) that film position `film` sees.
+    #[inline]
+    pub fn plane(&self, film: Vec2) -> Vec2 {
+        let sx = (film.x - self.offset.x) / self.width;
+        let sy = (film.y - self.offset.y) / self.height;
+        Vec2::new(
+            (1.0 - 2.0 * sx) * self.tan_half.x,
+            (1.0 - 2.0 * sy) * self.tan_half.y,
+        )
+    }
+
+    /// The film position of plane point `q` (the inverse of `plane`).
+    #[inline]
+    pub fn film(&self, q: Vec2) -> Vec2 {
+        Vec2::new(
+            (1.0 - q.x / self.tan_half.x) * 0.5 * self.width + self.offset.x,
+            (1.0 - q.y / self.tan_half.y) * 0.5 * self.height + self.offset.y,
+        )
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pinhole {
+    pub to_world: Transform,
+    to_local: Transform,
+    pub intrinsics: Intrinsics,
+    near_clip: f32,
+    far_clip: f32,
+}
+
+impl Pinhole {
+    /// `fov_deg` in (0, 180), `near_clip` > 0, width and height > 0 (the config checks).
+    pub fn new(
+        to_world: Transform,
+        fov_deg: f32,
+        axis: FovAxis,
+        near_clip: f32,
+        far_clip: f32,
+        width: u32,
+        height: u32,
+    ) -> Self {
+        Self::with_intrinsics(
+            to_world,
+            Intrinsics::from_fov(fov_deg, axis, width, height),
+            near_clip,
+            far_clip,
+        )
+    }
+
+    pub fn with_intrinsics(
+        to_world: Transform,
+        intrinsics: Intrinsics,
+        near_clip: f32,
+        far_clip: f32,
+    ) -> Self {
+        Self {
+            to_world,
+            to_local: to_world.inverse(),
+            intrinsics,
+            near_clip,
+            far_clip,
         }
     }
 
     /// The ray through film position `film` (pixels; (0,0) is the top-left corner of the image).
     #[inline]
     pub fn ray(&self, film: Vec2) -> Ray {
-        let sx = film.x / self.width;
-        let sy = film.y / self.height;
-        let d = Vec3::new(
-            (1.0 - 2.0 * sx) * self.tan_half.x,
-            (1.0 - 2.0 * sy) * self.tan_half.y,
-            1.0,
-        )
-        .normalize();
+        self.ray_through(self.intrinsics.plane(film))
+    }
+
+    /// The ray through point `q` of the plane z = 1 (camera frame).
+    #[inline]
+    pub fn ray_through(&self, q: Vec2) -> Ray {
+        let d = Vec3::new(q.x, q.y, 1.0).normalize();
         // Start on the near plane, as Mitsuba does.
         let local_o = d * (self.near_clip / d.z);
         let world_d = self.to_world.vector(d);
@@ -104,12 +182,9 @@ impl Camera {
         if !(q.z >= self.near_clip && q.z <= self.far_clip) {
             return None;
         }
-        let (x, y) = (q.x / q.z, q.y / q.z);
-        let film = Vec2::new(
-            (1.0 - x / self.tan_half.x) * 0.5 * self.width,
-            (1.0 - y / self.tan_half.y) * 0.5 * self.height,
-        );
-        let (lo, hi) = (-margin, Vec2::new(self.width, self.height) + margin);
+        let film = self.intrinsics.film(Vec2::new(q.x / q.z, q.y / q.z));
+        let k = &self.intrinsics;
+        let (lo, hi) = (-margin, Vec2::new(k.width, k.height) + margin);
         if !(film.x >= lo && film.x < hi.x && film.y >= lo && film.y < hi.y) {
             return None;
         }
@@ -123,8 +198,7 @@ impl Camera {
             film,
             wi: to_camera / dist,
             dist,
-            importance: self.width * self.height
-                / (4.0 * self.tan_half.x * self.tan_half.y * cos * cos * cos),
+            importance: k.width * k.height / (4.0 * k.tan_half.x * k.tan_half.y * cos * cos * cos),
         })
     }
 
@@ -143,14 +217,14 @@ impl Camera {
 
     /// tan of the half field of view along x and y.
     pub fn tan_half_fov(&self) -> Vec2 {
-        self.tan_half
+        self.intrinsics.tan_half
     }
 }
 
-/// A world point as the camera sees it (`Camera::project`).
+/// A world point as the camera sees it (`Pinhole::project`).
 #[derive(Clone, Copy, Debug)]
 pub struct Projection {
-    /// Film position in pixels, as `Camera::ray` takes it.
+    /// Film position in pixels, as `Pinhole::ray` takes it.
     pub film: Vec2,
     /// Unit direction from the point to the camera.
     pub wi: Vec3,
@@ -170,7 +244,7 @@ mod tests {
     fn project_inverts_ray() {
         let t = Transform::look_at(Vec3::new(0.3, 1.0, 3.9), Vec3::new(0.1, 0.0, 0.0), Vec3::Y)
             .unwrap();
-        let cam = Camera::new(t, 50.0, FovAxis::X, 0.01, 100.0, 320, 180);
+        let cam = Pinhole::new(t, 50.0, FovAxis::X, 0.01, 100.0, 320, 180);
         for film in [
             Vec2::new(160.0, 90.0),
             Vec2::new(0.5, 0.5),
@@ -214,7 +288,7 @@ mod tests {
     #[test]
     fn cornell_camera_orientation() {
         let t = Transform::look_at(Vec3::new(0.0, 0.0, 3.9), Vec3::ZERO, Vec3::Y).unwrap();
-        let cam = Camera::new(t, 39.3077, FovAxis::Smaller, 0.001, 100.0, 256, 256);
+        let cam = Pinhole::new(t, 39.3077, FovAxis::Smaller, 0.001, 100.0, 256, 256);
         let c = cam.ray(Vec2::new(128.0, 128.0));
         assert!((c.d - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
         // The image's right edge looks towards world +x, the top edge towards +y.
@@ -227,11 +301,11 @@ mod tests {
     #[test]
     fn fov_axes() {
         let t = Transform::IDENTITY;
-        let wide = Camera::new(t, 60.0, FovAxis::Y, 0.01, 1e4, 200, 100);
+        let wide = Pinhole::new(t, 60.0, FovAxis::Y, 0.01, 1e4, 200, 100);
         assert!((wide.tan_half_fov().y - 30f32.to_radians().tan()).abs() < 1e-6);
-        let smaller = Camera::new(t, 60.0, FovAxis::Smaller, 0.01, 1e4, 200, 100);
+        let smaller = Pinhole::new(t, 60.0, FovAxis::Smaller, 0.01, 1e4, 200, 100);
         assert_eq!(wide.tan_half_fov(), smaller.tan_half_fov());
-        let d = Camera::new(t, 60.0, FovAxis::Diagonal, 0.01, 1e4, 300, 400);
+        let d = Pinhole::new(t, 60.0, FovAxis::Diagonal, 0.01, 1e4, 300, 400);
         assert!((d.tan_half_fov().length() - 30f32.to_radians().tan()).abs() < 1e-6);
     }
 }

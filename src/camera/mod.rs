@@ -1,0 +1,170 @@
+//! Cameras, with Mitsuba 3's frame: in camera space they look along +z with +y up and +x to the
+//! left, so a Mitsuba `to_world` or look-at ports unchanged. One enum, matched once per camera
+//! ray: the pinhole (prism's original camera, unchanged bit for bit), the pinhole seen through
+//! OpenCV's lens distortion, the thin lens (depth of field) and the orthographic camera.
+//!
+//! Intrinsics: every perspective model maps a film position (pixels, (0,0) the top-left corner,
+//! pixel centres at i + 0.5) to a point on the plane z = 1 through `Intrinsics`; a distorted
+//! camera reads that point as OpenCV's *distorted* normalised coordinate and undistorts it
+//! (`Distortion::undistort`, Newton's method on the forward model), so the image is what a real
+//! camera with that calibration records.
+
+mod distortion;
+mod ortho;
+mod pinhole;
+mod thin_lens;
+
+pub use distortion::Distortion;
+pub use ortho::Orthographic;
+pub use pinhole::{FovAxis, Intrinsics, Pinhole, Projection};
+pub use thin_lens::{ThinLens, LENS_DIM};
+
+use crate::math::Transform;
+use crate::ray::Ray;
+use crate::sampler::PixelSampler;
+use glam::{DMat3, DMat4, DVec3, Vec2, Vec3};
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Camera {
+    Pinhole(Pinhole),
+    /// A pinhole behind an OpenCV distortion (k1, k2, p1, p2, k3).
+    Distorted(Pinhole, Distortion),
+    ThinLens(ThinLens),
+    Orthographic(Orthographic),
+}
+
+impl Camera {
+    /// A pinhole camera (see `Pinhole::new`).
+    pub fn new(
+        to_world: Transform,
+        fov_deg: f32,
+        axis: FovAxis,
+        near_clip: f32,
+        far_clip: f32,
+        width: u32,
+        height: u32,
+    ) -> Self {
+        Camera::Pinhole(Pinhole::new(
+            to_world, fov_deg, axis, near_clip, far_clip, width, height,
+        ))
+    }
+
+    /// The ray through film position `film` (pixels; (0,0) is the top-left corner of the image).
+    /// Only the thin lens draws from `sampler` (two numbers at `LENS_DIM`), so the other
+    /// models use exactly the sample dimensions they always did.
+    #[inline]
+    pub fn ray(&self, film: Vec2, sampler: &mut PixelSampler) -> Ray {
+        match self {
+            Camera::Pinhole(p) => p.ray(film),
+            Camera::Distorted(p, d) => p.ray_through(d.undistort_plane(p.intrinsics.plane(film))),
+            Camera::ThinLens(t) => {
+                sampler.set_dimension(LENS_DIM);
+                t.ray(film, sampler.next_2d())
+            }
+            Camera::Orthographic(o) => o.ray(film),
+        }
+    }
+
+    /// The ray through the pixel-centred film position `film` and the centre of the lens (for
+    /// the first-hit layers, which sample no lens).
+    pub fn center_ray(&self, film: Vec2) -> Ray {
+        match self {
+            Camera::Pinhole(p) => p.ray(film),
+            Camera::Distorted(p, d) => p.ray_through(d.undistort_plane(p.intrinsics.plane(film))),
+            Camera::ThinLens(t) => t.ray(film, Vec2::splat(0.5)),
+            Camera::Orthographic(o) => o.ray(film),
+        }
+    }
+
+    /// Where the camera sees world point `p`, for the caustic light tracer (see
+    /// `Pinhole::project`). Only the pinhole connects light paths to the camera; the scene
+    /// loader refuses caustics with the other models, so they never get here.
+    #[inline]
+    pub fn project(&self, p: Vec3, margin: f32) -> Option<Projection> {
+        match self {
+            Camera::Pinhole(c) => c.project(p, margin),
+            _ => None,
+        }
+    }
+
+    /// The model's name, as the sidecar and error messages write it.
+    pub fn model(&self) -> &'static str {
+        match self {
+            Camera::Pinhole(_) => "pinhole",
+            Camera::Distorted(..) => "pinhole+distortion",
+            Camera::ThinLens(_) => "thin_lens",
+            Camera::Orthographic(_) => "orthographic",
+        }
+    }
+
+    pub fn to_world(&self) -> &Transform {
+        match self {
+            Camera::Pinhole(p) | Camera::Distorted(p, _) => &p.to_world,
+            Camera::ThinLens(t) => &t.pinhole.to_world,
+            Camera::Orthographic(o) => &o.to_world,
+        }
+    }
+
+    /// The film-to-plane map (for the orthographic camera: to camera-space x, y in world units).
+    pub fn intrinsics(&self) -> &Intrinsics {
+        match self {
+            Camera::Pinhole(p) | Camera::Distorted(p, _) => &p.intrinsics,
+            Camera::ThinLens(t) => &t.pinhole.intrinsics,
+            Camera::Orthographic(o) => &o.intrinsics,
+        }
+    }
+
+    pub fn distortion(&self) -> Option<&Distortion> {
+        match self {
+            Camera::Distorted(_, d) => Some(d),
+            Camera::ThinLens(t) => t.distortion.as_ref(),
+            _ => None,
+        }
+    }
+
+    pub fn near_clip(&self) -> f32 {
+        match self {
+            Camera::Pinhole(p) | Camera::Distorted(p, _) => p.near_clip(),
+            Camera::ThinLens(t) => t.pinhole.near_clip(),
+            Camera::Orthographic(o) => o.near_clip,
+        }
+    }
+
+    pub fn far_clip(&self) -> f32 {
+        match self {
+            Camera::Pinhole(p) | Camera::Distorted(p, _) => p.far_clip(),
+            Camera::ThinLens(t) => t.pinhole.far_clip(),
+            Camera::Orthographic(o) => o.far_clip,
+        }
+    }
+
+    /// Camera position in world space (the lens centre; the orthographic camera's film centre).
+    pub fn position(&self) -> Vec3 {
+        self.to_world().point(Vec3::ZERO)
+    }
+
+    /// tan of the half field of view along x and y (for the orthographic camera: the film's
+    /// half extent in camera units).
+    pub fn tan_half_fov(&self) -> Vec2 {
+        self.intrinsics().tan_half
+    }
+
+    /// World → OpenCV's camera frame (x right, y down, z forward): x_cam = R·x_world + t, in
+    /// world units. A scale in `to_world` (which changes no ray direction) is divided out of
+    /// its columns, so R is a rotation for any rigid-plus-uniform-scale camera transform.
+    pub fn world_to_opencv(&self) -> (DMat3, DVec3) {
+        let m = self.to_world().m.as_dmat4();
+        let axis = |v: glam::DVec4| v.truncate().normalize();
+        // prism's camera frame is Mitsuba's: +x left, +y up, +z forward.
+        let c2w = DMat3::from_cols(-axis(m.x_axis), -axis(m.y_axis), axis(m.z_axis));
+        let r = c2w.transpose();
+        (r, -(r * m.w_axis.truncate()))
+    }
+
+    /// Camera → world in OpenGL's (and Blender's) camera frame: x right, y up, looking along −z.
+    pub fn camera_to_world_opengl(&self) -> DMat4 {
+        let m = self.to_world().m.as_dmat4();
+        let axis = |v: glam::DVec4| v.truncate().normalize().extend(0.0);
+        DMat4::from_cols(-axis(m.x_axis), axis(m.y_axis), -axis(m.z_axis), m.w_axis)
+    }
+}

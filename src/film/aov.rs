@@ -1,0 +1,130 @@
+//! AOV layers ("arbitrary output variables"): what the first surface a camera ray meets is,
+//! written beside the colour channels as `layer.channel` EXR channels.
+//!
+//! Conventions (scenes/README.md, "AOVs"; tested in `tests/aov.rs`):
+//! - Geometry and ids come from one ray per pixel through the pixel centre (film position
+//!   i + 0.5, the lens centre of a thin lens): exact values of one surface point, never a blend
+//!   of a foreground and a background across an edge. `alpha` is filtered like radiance: the
+//!   fraction of the pixel's camera samples (the very rays the colour channels used) that hit.
+//! - Units are the scene's; `distance` is along the ray from the camera centre (the lens
+//!   centre; the orthographic camera: from its film plane), `depth` is z along the optical
+//!   axis. World-frame vectors are in the scene's frame; camera-frame normals in OpenCV's
+//!   (x right, y down, z forward: n_cam = R·n_world with the sidecar's R).
+//! - Background (no surface): `distance`, `depth` +inf; positions, normals, uv 0; ids 0.
+//!   Instance ids are 1 + the shape's index in `shapes`, label ids 1 + the label's index in the
+//!   sidecar's sorted `labels`, material ids 1 + the material's index in the sidecar's
+//!   `materials`; 32-bit unsigned EXR channels.
+//! - `stderr`: each pixel's standard error of Y and of every band, √(s²/spp) with s² the
+//!   unbiased variance of its camera samples' contributions (the colour channels are unchanged).
+
+/// One AOV layer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Aov {
+    Distance,
+    Depth,
+    Position,
+    Normal,
+    GeoNormal,
+    NormalCamera,
+    GeoNormalCamera,
+    Uv,
+    Instance,
+    Label,
+    Material,
+    Alpha,
+    Stderr,
+}
+
+impl Aov {
+    pub const ALL: [Aov; 13] = [
+        Aov::Distance,
+        Aov::Depth,
+        Aov::Position,
+        Aov::Normal,
+        Aov::GeoNormal,
+        Aov::NormalCamera,
+        Aov::GeoNormalCamera,
+        Aov::Uv,
+        Aov::Instance,
+        Aov::Label,
+        Aov::Material,
+        Aov::Alpha,
+        Aov::Stderr,
+    ];
+
+    /// The name in `aovs: [...]` and `--aovs`, and the EXR layer's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Aov::Distance => "distance",
+            Aov::Depth => "depth",
+            Aov::Position => "position",
+            Aov::Normal => "normal",
+            Aov::GeoNormal => "geo_normal",
+            Aov::NormalCamera => "normal_camera",
+            Aov::GeoNormalCamera => "geo_normal_camera",
+            Aov::Uv => "uv",
+            Aov::Instance => "instance",
+            Aov::Label => "label",
+            Aov::Material => "material",
+            Aov::Alpha => "alpha",
+            Aov::Stderr => "stderr",
+        }
+    }
+
+    /// The channels after the layer name.
+    pub fn channels(self) -> &'static [&'static str] {
+        match self {
+            Aov::Distance | Aov::Depth => &["Z"],
+            Aov::Position
+            | Aov::Normal
+            | Aov::GeoNormal
+            | Aov::NormalCamera
+            | Aov::GeoNormalCamera => &["X", "Y", "Z"],
+            Aov::Uv => &["U", "V"],
+            Aov::Instance | Aov::Label | Aov::Material => &["ID"],
+            Aov::Alpha => &["A"],
+            // And one per spectral band, named as the band (`stderr.S0.550,000000nm`).
+            Aov::Stderr => &["Y"],
+        }
+    }
+
+    /// Integer (32-bit unsigned) channels.
+    pub fn is_id(self) -> bool {
+        matches!(self, Aov::Instance | Aov::Label | Aov::Material)
+    }
+
+    /// What it means, for the sidecar.
+    pub fn description(self) -> &'static str {
+        match self {
+            Aov::Distance => "distance from the camera centre to the surface along the pixel-centre ray (scene units; +inf: none)",
+            Aov::Depth => "z of the surface along the optical axis, OpenCV camera frame (scene units; +inf: none)",
+            Aov::Position => "world position of the surface (scene units; 0: none)",
+            Aov::Normal => "unit shading normal, world frame (0: none)",
+            Aov::GeoNormal => "unit geometric normal, world frame (0: none)",
+            Aov::NormalCamera => "unit shading normal, OpenCV camera frame: x right, y down, z forward (0: none)",
+            Aov::GeoNormalCamera => "unit geometric normal, OpenCV camera frame (0: none)",
+            Aov::Uv => "surface texture coordinates (0: none)",
+            Aov::Instance => "1 + index of the shape in `shapes` (objects[].instance_id; 0: none)",
+            Aov::Label => "id of the shape's label (labels; 0: none or unlabelled)",
+            Aov::Material => "1 + index of the shape's material (materials; 0: none)",
+            Aov::Alpha => "fraction of the pixel's camera samples that hit a surface (filtered like radiance)",
+            Aov::Stderr => "standard error of the pixel's Y and of each band (stderr.S0.<λ>nm) from the spread of its camera samples: sqrt(sample variance / spp)",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Aov> {
+        Aov::ALL.into_iter().find(|a| a.name() == name)
+    }
+
+    /// Every valid name, for error messages.
+    pub fn names() -> String {
+        Aov::ALL.map(|a| a.name()).join(", ")
+    }
+}
+
+/// A 32-bit unsigned channel (ids).
+#[derive(Clone, Debug, PartialEq)]
+pub struct UintChannel {
+    pub name: String,
+    pub data: Vec<u32>,
+}

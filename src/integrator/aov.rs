@@ -1,0 +1,188 @@
+//! The AOV pass: one ray per pixel centre for the geometry and id layers, and, for `alpha`,
+//! the colour pass's own camera rays again (same sampler dimensions, so the same rays). It runs
+//! only when a render asks for AOVs or a sidecar, so a plain render's path tracing is the code
+//! it always was; conventions in `film::aov`.
+
+use super::RenderSettings;
+use crate::camera::Camera;
+use crate::film::{Aov, Channel, UintChannel};
+use crate::sampler::PixelSampler;
+use crate::scene::Scene;
+use glam::{DVec3, Vec2, Vec3};
+use rayon::prelude::*;
+
+/// Runs the AOV pass: adds the layers `job.aovs` asks for to `film` and returns the
+/// pixel-centre hits (the sidecar's boxes come from them, with or without AOV layers).
+/// `stderr`: the standard errors `render_film` returned (needed when `job.aovs` has `stderr`).
+pub fn add_layers(
+    job: &crate::scene::Job,
+    film: &mut crate::film::Film,
+    stderr: Option<&[f32]>,
+) -> Vec<Option<Hit>> {
+    let s = &job.settings;
+    let hits = first_hits(&job.scene, s.width, s.height);
+    let (floats, ids) = layers(&job.scene, s, &hits, &job.aovs, &job.objects.label_ids());
+    film.channels.extend(floats);
+    film.uint_channels.extend(ids);
+    if let (true, Some(se)) = (job.aovs.contains(&Aov::Stderr), stderr) {
+        film.channels.extend(stderr_layers(se, &job.channels));
+    }
+    hits
+}
+
+/// `stderr.Y` and one `stderr.<band>` per band, from per-pixel slot standard errors.
+fn stderr_layers(se: &[f32], channels: &crate::film::FilmChannels) -> Vec<Channel> {
+    let slots = crate::sensor::XYZ_SLOTS + channels.bands.map_or(0, |b| b.count as usize);
+    let pick = |slot: usize| se.iter().skip(slot).step_by(slots).copied().collect();
+    let mut out = vec![Channel {
+        name: "stderr.Y".into(),
+        data: pick(1),
+    }];
+    if let Some(b) = channels.bands {
+        for k in 0..b.count {
+            out.push(Channel {
+                name: format!("stderr.{}", crate::film::spectral_channel_name(b.center(k))),
+                data: pick(crate::sensor::XYZ_SLOTS + k as usize),
+            });
+        }
+    }
+    out
+}
+
+/// The surface a pixel-centre ray meets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub p: Vec3,
+    pub ng: Vec3,
+    pub ns: Vec3,
+    pub uv: Vec2,
+    pub shape: u32,
+}
+
+/// The first hit of the ray through each pixel centre, row-major.
+pub fn first_hits(scene: &Scene, width: u32, height: u32) -> Vec<Option<Hit>> {
+    (0..width as usize * height as usize)
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|i| {
+            let (x, y) = ((i % width as usize) as f32, (i / width as usize) as f32);
+            let ray = scene.camera.center_ray(Vec2::new(x + 0.5, y + 0.5));
+            scene.intersect(&ray).map(|si| Hit {
+                p: si.p,
+                ng: si.ng,
+                ns: si.frame.n,
+                uv: si.uv,
+                shape: si.shape,
+            })
+        })
+        .collect()
+}
+
+/// Fraction of each pixel's camera samples that hit a surface (the colour pass's rays).
+pub fn coverage(scene: &Scene, settings: &RenderSettings) -> Vec<f32> {
+    let (w, h) = (settings.width, settings.height);
+    (0..w as usize * h as usize)
+        .into_par_iter()
+        .with_min_len(16)
+        .map(|i| {
+            let pixel = i as u64;
+            let (x, y) = ((pixel % w as u64) as f32, (pixel / w as u64) as f32);
+            let mut sampler = PixelSampler::new(settings.sampler, settings.seed, pixel);
+            let mut hits = 0u32;
+            for s in 0..settings.spp {
+                sampler.start(s);
+                let offset = settings.filter.sample(sampler.next_2d());
+                let ray = scene
+                    .camera
+                    .ray(Vec2::new(x + 0.5, y + 0.5) + offset, &mut sampler);
+                hits += scene.intersect(&ray).is_some() as u32;
+            }
+            (hits as f64 / settings.spp as f64) as f32
+        })
+        .collect()
+}
+
+/// Distance from the camera centre and depth along its axis (OpenCV's z) of world point `p`.
+fn distance_depth(camera: &Camera, r: &glam::DMat3, t: DVec3, p: Vec3) -> (f32, f32) {
+    let q = *r * p.as_dvec3() + t;
+    let dist = match camera {
+        Camera::Orthographic(_) => q.z,
+        _ => q.length(),
+    };
+    (dist as f32, q.z as f32)
+}
+
+/// The layers `aovs` asks for, from the pixel-centre hits (`label_ids`: each shape's label id;
+/// `material_ids` from the scene). Float layers first, then the id layers.
+pub fn layers(
+    scene: &Scene,
+    settings: &RenderSettings,
+    hits: &[Option<Hit>],
+    aovs: &[Aov],
+    label_ids: &[u32],
+) -> (Vec<Channel>, Vec<UintChannel>) {
+    let (r, t) = scene.camera.world_to_opencv();
+    let rf = r.as_mat3();
+    let mut floats = Vec::new();
+    let mut ids = Vec::new();
+    let push = |floats: &mut Vec<Channel>, aov: Aov, f: &dyn Fn(&Option<Hit>) -> [f32; 3]| {
+        for (c, ch) in aov.channels().iter().enumerate() {
+            floats.push(Channel {
+                name: format!("{}.{ch}", aov.name()),
+                data: hits.iter().map(|h| f(h)[c]).collect(),
+            });
+        }
+    };
+    let inf = f32::INFINITY;
+    for &aov in aovs {
+        match aov {
+            Aov::Distance => push(&mut floats, aov, &|h| {
+                h.map_or([inf; 3], |h| {
+                    [distance_depth(&scene.camera, &r, t, h.p).0; 3]
+                })
+            }),
+            Aov::Depth => push(&mut floats, aov, &|h| {
+                h.map_or([inf; 3], |h| {
+                    [distance_depth(&scene.camera, &r, t, h.p).1; 3]
+                })
+            }),
+            Aov::Position => push(&mut floats, aov, &|h| {
+                h.map_or([0.0; 3], |h| h.p.to_array())
+            }),
+            Aov::Normal => push(&mut floats, aov, &|h| {
+                h.map_or([0.0; 3], |h| h.ns.to_array())
+            }),
+            Aov::GeoNormal => push(&mut floats, aov, &|h| {
+                h.map_or([0.0; 3], |h| h.ng.to_array())
+            }),
+            Aov::NormalCamera => push(&mut floats, aov, &|h| {
+                h.map_or([0.0; 3], |h| (rf * h.ns).normalize().to_array())
+            }),
+            Aov::GeoNormalCamera => push(&mut floats, aov, &|h| {
+                h.map_or([0.0; 3], |h| (rf * h.ng).normalize().to_array())
+            }),
+            Aov::Uv => push(&mut floats, aov, &|h| {
+                h.map_or([0.0; 3], |h| [h.uv.x, h.uv.y, 0.0])
+            }),
+            Aov::Stderr => {} // from the colour pass: `add_layers`
+            Aov::Alpha => floats.push(Channel {
+                name: "alpha.A".into(),
+                data: coverage(scene, settings),
+            }),
+            Aov::Instance | Aov::Label | Aov::Material => {
+                let id = |h: &Option<Hit>| {
+                    h.map_or(0, |h| match aov {
+                        Aov::Instance => h.shape + 1,
+                        Aov::Label => label_ids[h.shape as usize],
+                        _ => scene.shape_material[h.shape as usize] + 1,
+                    })
+                };
+                ids.push(UintChannel {
+                    name: format!("{}.ID", aov.name()),
+                    data: hits.iter().map(id).collect(),
+                });
+            }
+        }
+    }
+    (floats, ids)
+}

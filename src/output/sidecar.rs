@@ -1,0 +1,223 @@
+//! The sidecar `OUT.json` beside `OUT.exr`: everything a vision pipeline needs to use the
+//! render without reading prism's code: the camera in OpenCV's and OpenGL's conventions, the
+//! render settings, the sensor and every object with its id, 2D box and visible pixels.
+//! Schema: docs/sidecar.md. Written atomically, after the EXR.
+
+use crate::camera::Camera;
+use crate::error::Error;
+use crate::integrator::aov::Hit;
+use crate::integrator::RenderStats;
+use crate::scene::Job;
+use glam::{DMat3, DMat4};
+use serde_json::{json, Value};
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+
+/// The sidecar's path for an EXR path: the same name with `.json`.
+pub fn path_for(exr: &Path) -> PathBuf {
+    exr.with_extension("json")
+}
+
+fn rows3(m: &DMat3) -> Value {
+    json!((0..3).map(|r| m.row(r).to_array()).collect::<Vec<_>>())
+}
+
+fn rows4(m: &DMat4) -> Value {
+    json!((0..4).map(|r| m.row(r).to_array()).collect::<Vec<_>>())
+}
+
+/// The camera block: K and distortion in OpenCV's pixel convention, R, t, OpenGL's pose.
+pub fn camera(cam: &Camera, width: u32, height: u32) -> Value {
+    let [fx, fy, cx, cy] = cam.intrinsics().k_opencv();
+    let (r, t) = cam.world_to_opencv();
+    let mut w2c = DMat4::from_mat3(r);
+    w2c.w_axis = t.extend(1.0);
+    let d = cam.distortion().copied().unwrap_or_default();
+    let mut v = json!({
+        "model": cam.model(),
+        "image_size": [width, height],
+        "K": [[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]],
+        "dist": [d.k1, d.k2, d.p1, d.p2, d.k3],
+        "pixel_convention": "OpenCV: pixel (i, j) has its centre at (i, j); prism's film coordinates are OpenCV's + 0.5",
+        "R": rows3(&r),
+        "t": t.to_array(),
+        "world_to_camera_opencv": rows4(&w2c),
+        "camera_to_world_opengl": rows4(&cam.camera_to_world_opengl()),
+        "camera_to_world_prism": rows4(&cam.to_world().m.as_dmat4()),
+        "position": cam.position().to_array(),
+        "near": cam.near_clip(),
+        "far": cam.far_clip(),
+    });
+    match cam {
+        Camera::Orthographic(_) => {
+            v["K_meaning"] = json!("orthographic: u = fx·x_cam + cx, v = fy·y_cam + cy (x_cam, y_cam in scene units, OpenCV camera frame)");
+        }
+        _ => {
+            let k = cam.intrinsics();
+            v["fov_deg"] = json!([
+                2.0 * (k.tan_half.x as f64).atan().to_degrees(),
+                2.0 * (k.tan_half.y as f64).atan().to_degrees()
+            ]);
+        }
+    }
+    if let Camera::ThinLens(l) = cam {
+        v["aperture_radius"] = json!(l.aperture_radius);
+        v["focus_distance"] = json!(l.focus_distance);
+    }
+    v
+}
+
+/// Every file the scene reads: each string in the config naming an existing file (relative to
+/// the scene's folder), with its SHA-256; and a SHA-256 over the scene file and all of them.
+fn hashes(job: &Job, scene_file: &Path) -> (Value, String) {
+    let base = scene_file.parent().unwrap_or(Path::new("."));
+    let mut files = std::collections::BTreeSet::new();
+    fn walk(v: &Value, base: &Path, out: &mut std::collections::BTreeSet<PathBuf>) {
+        match v {
+            Value::String(s) => {
+                let p = base.join(s);
+                if !s.is_empty() && p.is_file() {
+                    out.insert(p);
+                }
+            }
+            Value::Array(a) => a.iter().for_each(|x| walk(x, base, out)),
+            Value::Object(o) => o.values().for_each(|x| walk(x, base, out)),
+            _ => {}
+        }
+    }
+    if let Ok(v) = serde_json::to_value(&job.config) {
+        walk(&v, base, &mut files);
+    }
+    let sha = |p: &Path| -> String {
+        std::fs::read(p)
+            .map(|b| format!("{:x}", Sha256::digest(&b)))
+            .unwrap_or_else(|_| "unreadable".into())
+    };
+    let mut all = Sha256::new();
+    all.update(sha(scene_file).as_bytes());
+    let list: Vec<Value> = files
+        .iter()
+        .map(|p| {
+            let h = sha(p);
+            all.update(h.as_bytes());
+            json!({"path": p, "sha256": h})
+        })
+        .collect();
+    (json!(list), format!("{:x}", all.finalize()))
+}
+
+/// Writes the sidecar for a finished render.
+pub fn write(
+    path: &Path,
+    job: &Job,
+    scene_file: &Path,
+    exr: &Path,
+    hits: &[Option<Hit>],
+    stats: &RenderStats,
+    seconds: f64,
+) -> Result<(), Error> {
+    let s = &job.settings;
+    let (w, h) = (s.width, s.height);
+    // 2D boxes and visible pixels from the pixel-centre ids (the instance layer's).
+    let n = job.objects.list.len();
+    let mut boxes = vec![[u32::MAX, u32::MAX, 0, 0]; n];
+    let mut pixels = vec![0u64; n];
+    for (i, hit) in hits.iter().enumerate() {
+        if let Some(hit) = hit {
+            let (x, y) = (i as u32 % w, i as u32 / w);
+            let k = hit.shape as usize;
+            let b = &mut boxes[k];
+            *b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+            pixels[k] += 1;
+        }
+    }
+    let objects: Vec<Value> = job
+        .objects
+        .list
+        .iter()
+        .enumerate()
+        .map(|(k, o)| {
+            json!({
+                "instance_id": o.instance_id,
+                "name": o.name,
+                "label": o.label,
+                "label_id": o.label_id,
+                "material": o.material,
+                "material_id": o.material_id,
+                "to_world": rows4(&o.to_world.as_dmat4()),
+                "bounds": {"min": o.bounds.0.to_array(), "max": o.bounds.1.to_array()},
+                "bbox": (pixels[k] > 0).then_some(boxes[k]),
+                "visible_pixels": pixels[k],
+            })
+        })
+        .collect();
+    let (lo, hi) = s.wavelengths.range();
+    let c = &job.channels;
+    let bands = c.bands.map(|b| {
+        json!({
+            "count": b.count,
+            "range_nm": [b.lo, b.hi],
+            "width_nm": b.width(),
+            "bands": (0..b.count).map(|i| json!({
+                "channel": crate::film::spectral_channel_name(b.center(i)),
+                "center_nm": b.center(i),
+                "range_nm": [b.lo + i as f32 * b.width(), b.lo + (i + 1) as f32 * b.width()],
+            })).collect::<Vec<_>>(),
+        })
+    });
+    let (files, scene_hash) = hashes(job, scene_file);
+    let aov_list: Vec<Value> = job
+        .aovs
+        .iter()
+        .map(|a| {
+            json!({
+                "name": a.name(),
+                "channels": a.channels().iter().map(|c| format!("{}.{c}", a.name()))
+                    .chain(c.bands.filter(|_| *a == crate::film::Aov::Stderr).into_iter().flat_map(|b| {
+                        (0..b.count).map(move |k| format!("stderr.{}", crate::film::spectral_channel_name(b.center(k))))
+                    }))
+                    .collect::<Vec<_>>(),
+                "type": if a.is_id() { "uint32" } else { "float32" },
+                "meaning": a.description(),
+            })
+        })
+        .collect();
+    let v = json!({
+        "format": "prism-sidecar",
+        "version": 1,
+        "image": exr.file_name().map(|f| f.to_string_lossy().into_owned()),
+        "width": w,
+        "height": h,
+        "camera": camera(&job.scene.camera, w, h),
+        "sensor": {
+            "observer": if c.rgb || c.xyz { Some("CIE 1931 2°") } else { None },
+            "colour_channels": {"rgb": c.rgb.then_some("linear sRGB (D65 white), from XYZ"), "xyz": c.xyz.then_some("CIE 1931 XYZ")},
+            "units": "spectral radiance, W m^-2 sr^-1 nm^-1 (bands: mean over the band); XYZ and RGB: the CMF-weighted integral with Y of a unit constant spectrum = 1",
+            "bands": bands,
+            "exposure": Value::Null,
+        },
+        "render": {
+            "prism_version": env!("CARGO_PKG_VERSION"),
+            "scene_file": scene_file,
+            "scene_sha256": scene_hash,
+            "files": files,
+            "spp": s.spp,
+            "seed": s.seed,
+            "sampler": format!("{:?}", s.sampler),
+            "wavelengths": {"per_path": s.lanes, "sampling": format!("{:?}", s.wavelengths.kind()), "range_nm": [lo, hi]},
+            "integrator": {"type": "path", "max_depth": s.path.max_depth, "rr_depth": s.path.rr_depth, "hide_emitters": s.path.hide_emitters, "clamp": s.path.clamp, "caustics": s.path.caustics.is_some()},
+            "samples": stats.samples,
+            "invalid_samples": stats.invalid_samples,
+            "seconds": seconds,
+        },
+        "aovs": aov_list,
+        "aov_conventions": "geometry and ids from one ray through each pixel centre; alpha filtered like radiance; background: distance/depth +inf, vectors 0, ids 0; camera-frame normals in OpenCV's frame",
+        "labels": job.objects.labels.iter().enumerate().map(|(i, l)| json!({"id": i + 1, "name": l})).collect::<Vec<_>>(),
+        "materials": job.objects.materials.iter().enumerate().map(|(i, m)| json!({"id": i + 1, "name": m})).collect::<Vec<_>>(),
+        "objects": objects,
+    });
+    let text = serde_json::to_string_pretty(&v).map_err(|e| Error::Other(e.to_string()))?;
+    super::write_atomic(path, |tmp| {
+        std::fs::write(tmp, text.as_bytes()).map_err(|e| e.to_string())
+    })
+}

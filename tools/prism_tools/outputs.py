@@ -1,0 +1,98 @@
+"""Read a prism render into numpy: the spectral cube with its wavelengths (sorted), the colour
+channels, every AOV layer by name and the sidecar (docs/sidecar.md).
+
+    r = outputs.read("out.exr")
+    r.wavelengths, r.spectral          # (N,), (H, W, N), sorted by wavelength
+    r.layer("depth")                   # (H, W); r.layer("normal") -> (H, W, 3) X, Y, Z
+    r.layer("instance")                # uint32 (H, W)
+    r.sidecar["camera"]["K"]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import pathlib
+import re
+
+import numpy as np
+import OpenImageIO as oiio
+
+_SPECTRAL = re.compile(r"^S0\.(\d+),(\d+)nm$")
+# Channel order within a layer (EXR stores them sorted by name).
+_ORDER = ["R", "G", "B", "X", "Y", "Z", "U", "V", "A", "ID"]
+
+
+@dataclasses.dataclass
+class Render:
+    channels: dict[str, np.ndarray]
+    wavelengths: np.ndarray
+    spectral: np.ndarray | None
+    sidecar: dict | None
+
+    def layer(self, name: str) -> np.ndarray:
+        """Layer `name` (e.g. "depth", "normal", "instance"): (H, W) for one channel, else
+        (H, W, C) in X, Y, Z / U, V order."""
+        names = [c for c in self.channels if c.split(".", 1)[0] == name and "." in c]
+        if not names:
+            layers = sorted({c.split(".", 1)[0] for c in self.channels if "." in c and not c.startswith("S0.")})
+            raise KeyError(f"no layer {name!r}; the render has {layers}")
+        names.sort(key=lambda c: _ORDER.index(c.split(".", 1)[1]) if c.split(".", 1)[1] in _ORDER else 99)
+        if len(names) == 1:
+            return self.channels[names[0]]
+        return np.stack([self.channels[n] for n in names], axis=-1)
+
+    def rgb(self) -> np.ndarray:
+        return np.stack([self.channels[c] for c in "RGB"], axis=-1)
+
+
+def read(path: str | pathlib.Path) -> Render:
+    """Reads `path` (an EXR prism wrote) and its sidecar (same name, .json) if present."""
+    path = pathlib.Path(path)
+    inp = oiio.ImageInput.open(str(path))
+    if inp is None:
+        raise OSError(f"cannot open {path}: {oiio.geterror()}")
+    spec = inp.spec()
+    names = list(spec.channelnames)
+    formats = [str(f) for f in spec.channelformats] or [str(spec.format)] * len(names)
+    channels: dict[str, np.ndarray] = {}
+    floats = inp.read_image(0, 0, 0, len(names), "float")
+    for i, n in enumerate(names):
+        if formats[i] == "uint":
+            # Ids are 32-bit: read them natively (float32 holds only 24 bits exactly).
+            channels[n] = np.asarray(inp.read_image(0, 0, i, i + 1, "uint"))[..., 0].astype(np.uint32)
+        else:
+            channels[n] = np.asarray(floats[..., i], dtype=np.float32)
+    inp.close()
+    bands = []
+    for n in channels:
+        m = _SPECTRAL.match(n)
+        if m:
+            bands.append((float(f"{m.group(1)}.{m.group(2)}"), n))
+    bands.sort()
+    wavelengths = np.array([b[0] for b in bands])
+    spectral = np.stack([channels[b[1]] for b in bands], axis=-1) if bands else None
+    side = path.with_suffix(".json")
+    sidecar = json.loads(side.read_text()) if side.exists() else None
+    return Render(channels, wavelengths, spectral, sidecar)
+
+
+def camera_matrices(sidecar: dict) -> dict[str, np.ndarray]:
+    """The sidecar's camera as numpy arrays: K, dist, R, t, rvec (Rodrigues), world_to_camera
+    (OpenCV), camera_to_world_opengl."""
+    cam = sidecar["camera"]
+    r = np.array(cam["R"], dtype=np.float64)
+    angle = np.arccos(np.clip((np.trace(r) - 1) / 2, -1, 1))
+    if angle < 1e-12:
+        rvec = np.zeros(3)
+    else:
+        rvec = angle / (2 * np.sin(angle)) * np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    return {
+        "K": np.array(cam["K"], dtype=np.float64),
+        "dist": np.array(cam["dist"], dtype=np.float64),
+        "R": r,
+        "t": np.array(cam["t"], dtype=np.float64),
+        "rvec": rvec,
+        "world_to_camera": np.array(cam["world_to_camera_opencv"], dtype=np.float64),
+        "camera_to_world_opengl": np.array(cam["camera_to_world_opengl"], dtype=np.float64),
+    }
