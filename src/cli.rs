@@ -79,6 +79,9 @@ pub struct RenderArgs {
     /// scene's integrator.clamp). Biased: for previews, never for ground truth.
     #[arg(long)]
     pub clamp: Option<f32>,
+    /// A sensor file (RON, configs/sensors/*.ron) replacing the scene's `sensor`/`outputs`.
+    #[arg(long)]
+    pub sensor: Option<PathBuf>,
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -140,6 +143,10 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if let Some(w) = args.wavelength_sampling {
             cfg.spectral.sampling = w;
+        }
+        if let Some(p) = &args.sensor {
+            cfg.sensor = Some(crate::sensor::setup::cli_override(p));
+            cfg.outputs = Default::default();
         }
         if args.clamp.is_some() {
             cfg.integrator.clamp = args.clamp;

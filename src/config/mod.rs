@@ -13,6 +13,7 @@
 
 pub mod ior;
 mod parse;
+pub mod sensor;
 pub mod spectrum;
 
 use crate::accel::AccelKind;
@@ -46,6 +47,10 @@ pub struct SceneConfig {
     pub integrator: PathSettings,
     pub spectral: SpectralConfig,
     pub outputs: OutputConfig,
+    /// What the camera records: inline `(observer: ..., rgb: [...], bands: [...], camera: ...)`
+    /// or `File("sensor.ron")` (relative to the scene file); replaces `outputs`
+    /// (configs/README.md).
+    pub sensor: Option<sensor::SensorField>,
     /// Materials by name; shapes refer to them. `{ "white": Diffuse(reflectance: Rgb(0.8, 0.8, 0.8)) }`
     pub materials: BTreeMap<String, MaterialConfig>,
     pub shapes: Vec<ShapeConfig>,

@@ -54,13 +54,13 @@ pub fn render(
     channels: &FilmChannels,
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Film, RenderStats) {
-    let sensor = Sensor::new(channels.bands);
+    let sensor = &channels.sensor;
     let (means, stats) = match settings.lanes {
-        1 => render_lanes::<1>(scene, settings, &sensor, progress),
-        2 => render_lanes::<2>(scene, settings, &sensor, progress),
-        4 => render_lanes::<4>(scene, settings, &sensor, progress),
-        8 => render_lanes::<8>(scene, settings, &sensor, progress),
-        16 => render_lanes::<16>(scene, settings, &sensor, progress),
+        1 => render_lanes::<1>(scene, settings, sensor, progress),
+        2 => render_lanes::<2>(scene, settings, sensor, progress),
+        4 => render_lanes::<4>(scene, settings, sensor, progress),
+        8 => render_lanes::<8>(scene, settings, sensor, progress),
+        16 => render_lanes::<16>(scene, settings, sensor, progress),
         n => panic!("{n} wavelengths per path is not supported (config validation lets only {SUPPORTED_LANES:?} through)"),
     };
     let film = Film::from_means(
