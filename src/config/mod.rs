@@ -148,7 +148,8 @@ pub struct SpectralConfig {
     /// scene's spectra cover works (e.g. (300, 1100) for NIR bands).
     pub range: (f32, f32),
     /// `Visible` (default: importance-samples the eye's sensitivity, as Mitsuba 3) or `Uniform`
-    /// (equal noise in every band: better for spectral outputs and ranges beyond the visible).
+    /// (equal noise in every band: better for spectral outputs and ranges beyond the visible)
+    /// or `Sensor` (from the sensor's curves, as Mitsuba's `specfilm`; src/sensor/sampling.rs).
     pub sampling: WavelengthSampling,
     /// Where sampling depends on wavelength (dispersive glass): `SpectralMis` (default: keep
     /// every lane, weighted by spectral MIS) or `TerminateSecondary` (keep only the hero, as

@@ -290,7 +290,15 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         seed: s.seed,
         sampler: s.kind,
         lanes: sp.wavelengths,
-        wavelengths: WavelengthSampler::new(sp.sampling, lo, hi),
+        wavelengths: match sp.sampling {
+            // One cell per nm (at least 64) of the sensor's density (src/sensor/sampling.rs).
+            crate::spectrum::WavelengthSampling::Sensor => {
+                let cells = ((hi - lo).ceil() as usize).max(64);
+                let d = channels.sensor.sampling_density((lo, hi), cells);
+                WavelengthSampler::tabulated(lo, hi, &d)
+            }
+            k => WavelengthSampler::new(k, lo, hi),
+        },
         filter: Filter::new(&f.filter),
         path: cfg.integrator,
         dispersion: cfg.spectral.dispersion,

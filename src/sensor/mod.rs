@@ -17,6 +17,7 @@ pub mod bands;
 pub mod camera;
 pub mod colour_space;
 pub mod observer;
+pub mod sampling;
 pub mod setup;
 
 pub use bands::{Bands, Response, Shape};
