@@ -102,6 +102,9 @@ pub struct RenderArgs {
     /// (`--aovs ""` for none).
     #[arg(long, value_delimiter = ',')]
     pub aovs: Option<Vec<String>>,
+    /// A sensor file (RON, configs/sensors/*.ron) replacing the scene's `sensor`/`outputs`.
+    #[arg(long)]
+    pub sensor: Option<PathBuf>,
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -182,6 +185,10 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         if let Some(w) = args.wavelength_sampling {
             cfg.spectral.sampling = w;
         }
+        if let Some(p) = &args.sensor {
+            cfg.sensor = Some(crate::sensor::setup::cli_override(p));
+            cfg.outputs = Default::default();
+        }
         if args.clamp.is_some() {
             cfg.integrator.clamp = args.clamp;
         }
@@ -203,7 +210,14 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     output::guard::check_output(&out, "-o", &job.inputs)?;
     if let Some(p) = &args.preview {
         output::guard::check_output(p, "--preview", &job.inputs)?;
-        if !(job.channels.rgb || job.channels.xyz) {
+        if !(job
+            .channels
+            .sensor
+            .layers
+            .rgb
+            .contains(&crate::sensor::RgbSpace::Srgb)
+            || job.channels.sensor.layers.xyz)
+        {
             return Err(crate::error::InputError::new(
                 p,
                 "a PNG preview needs the rgb or xyz output",

@@ -105,7 +105,7 @@ pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
         "sampler": {"type": format!("{:?}", s.sampler).to_lowercase(), "spp": s.spp, "seed": s.seed},
         "integrator": {"type": "path", "max_depth": s.path.max_depth, "rr_depth": s.path.rr_depth, "hide_emitters": s.path.hide_emitters, "clamp": s.path.clamp, "caustics": s.path.caustics},
         "spectral": {"wavelengths": s.lanes, "range": [lo, hi], "sampling": format!("{:?}", s.wavelengths.kind()).to_lowercase(), "dispersion": format!("{:?}", s.dispersion)},
-        "outputs": {"rgb": job.channels.rgb, "xyz": job.channels.xyz, "bands": job.channels.bands.map(|b| json!({"count": b.count, "range": [b.lo, b.hi]}))},
+        "outputs": {"rgb": job.channels.sensor.layers.rgb.contains(&crate::sensor::RgbSpace::Srgb), "xyz": job.channels.sensor.layers.xyz, "bands": job.channels.sensor.bands().map(|b| json!({"count": b.count, "range": [b.lo, b.hi]}))},
         "materials": scene.materials.iter().map(|m| ctx.material(m)).collect::<Vec<_>>(),
         "shapes": shapes,
         "emitters": scene.emitters.iter().map(|e| ctx.emitter(e)).collect::<Vec<_>>(),

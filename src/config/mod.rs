@@ -14,6 +14,7 @@
 pub mod camera;
 pub mod ior;
 mod parse;
+pub mod sensor;
 pub mod spectrum;
 
 use crate::accel::AccelKind;
@@ -48,6 +49,10 @@ pub struct SceneConfig {
     pub integrator: PathSettings,
     pub spectral: SpectralConfig,
     pub outputs: OutputConfig,
+    /// What the camera records: inline `(observer: ..., rgb: [...], bands: [...], camera: ...)`
+    /// or `File("sensor.ron")` (relative to the scene file); replaces `outputs`
+    /// (configs/README.md).
+    pub sensor: Option<sensor::SensorField>,
     /// Materials by name; shapes refer to them. `{ "white": Diffuse(reflectance: Rgb(0.8, 0.8, 0.8)) }`
     pub materials: BTreeMap<String, MaterialConfig>,
     pub shapes: Vec<ShapeConfig>,
@@ -157,7 +162,8 @@ pub struct SpectralConfig {
     /// scene's spectra cover works (e.g. (300, 1100) for NIR bands).
     pub range: (f32, f32),
     /// `Visible` (default: importance-samples the eye's sensitivity, as Mitsuba 3) or `Uniform`
-    /// (equal noise in every band: better for spectral outputs and ranges beyond the visible).
+    /// (equal noise in every band: better for spectral outputs and ranges beyond the visible)
+    /// or `Sensor` (from the sensor's curves, as Mitsuba's `specfilm`; src/sensor/sampling.rs).
     pub sampling: WavelengthSampling,
     /// Where sampling depends on wavelength (dispersive glass): `SpectralMis` (default: keep
     /// every lane, weighted by spectral MIS) or `TerminateSecondary` (keep only the hero, as

@@ -19,6 +19,7 @@ use std::path::Path;
 /// Named("D65")                            // a CIE illuminant, unit luminance
 /// Blackbody(5500)                         // Planck's law in W m⁻² sr⁻¹ nm⁻¹, temperature in K
 /// Scaled(10, Named("A"))                  // any spectrum times a factor
+/// Gaussian(centre: 850, fwhm: 40)         // peak 1 at `centre` nm (an LED line, a filter)
 /// Checkerboard(color0: Constant(0.8), color1: Rgb(0.1, 0.1, 0.5), uv_scale: (8, 8))  // a texture
 /// Bitmap(path: "wood.png", filter: Bilinear, wrap: Repeat, raw: false, uv_scale: (1, 1))  // a texture
 /// ```
@@ -39,6 +40,11 @@ pub enum SpectrumConfig {
     Named(String),
     Blackbody(f32),
     Scaled(f32, Box<SpectrumConfig>),
+    /// exp(−4 ln 2 (λ − centre)² / fwhm²): peak 1, full width `fwhm` nm at half maximum.
+    Gaussian {
+        centre: f32,
+        fwhm: f32,
+    },
     /// Mitsuba's `checkerboard` (defaults 0.4 and 0.2).
     Checkerboard {
         #[serde(default = "point_four")]
@@ -84,6 +90,9 @@ pub enum Role {
     /// A part of a complex index of refraction (a conductor's η or κ): values ≥ 0, no upper
     /// bound; RGB and illuminants are refused (they have no meaning as an index).
     Ior,
+    /// A sensor's or filter's spectral response: values ≥ 0, no upper bound; RGB and
+    /// illuminants are refused.
+    Response,
 }
 
 /// Where a spectrum sits: for error messages and relative paths.
@@ -138,7 +147,7 @@ impl SpectrumConfig {
                 .err(format!("a reflectance must lie in [0, 1], but this one reaches {max} in {lo}–{hi} nm"))
                 .hint("a surface cannot reflect more light than it receives; scale the values to at most 1"));
         }
-        if let Some((a, b)) = curve.support() {
+        if let Some((a, b)) = curve.support().filter(|_| role != Role::Response) {
             if a > lo || b < hi {
                 warnings.push(format!(
                     "{}: {}: the spectrum is defined over {a}–{b} nm only and is 0 elsewhere in the render range {lo}–{hi} nm",
@@ -221,6 +230,11 @@ impl SpectrumConfig {
                         Curve::rgb_reflectance(rgb)
                     }
                     Role::Emission => Curve::rgb_illuminant(rgb),
+                    Role::Response => {
+                        return Err(ctx
+                            .err("a spectral response cannot be given as RGB")
+                            .hint("write it as Tabulated, File (nm, value) or Gaussian(centre, fwhm)"))
+                    }
                     Role::Ior => {
                         return Err(ctx
                             .err("an index of refraction cannot be given as RGB")
@@ -303,6 +317,11 @@ impl SpectrumConfig {
                             ))
                             .hint("name a metal with the material's `material` field instead, e.g. material: \"Au\""))
                     }
+                    Role::Response => {
+                        return Err(ctx
+                            .err(format!("`Named(\"{name}\")` is an illuminant, not a spectral response"))
+                            .hint("write it as Tabulated, File (nm, value) or Gaussian(centre, fwhm)"))
+                    }
                     Role::Emission => {}
                 }
                 data::named_illuminant(name).ok_or_else(|| {
@@ -326,6 +345,19 @@ impl SpectrumConfig {
                     scale: 1.0,
                 }
             }
+            SpectrumConfig::Gaussian { centre, fwhm } => {
+                check_finite(ctx, "the centre", *centre)?;
+                check_finite(ctx, "the fwhm", *fwhm)?;
+                if *centre <= 0.0 || *fwhm <= 0.0 {
+                    return Err(ctx
+                        .err(format!("Gaussian(centre: {centre}, fwhm: {fwhm}): both must be > 0 nm"))
+                        .hint("e.g. Gaussian(centre: 850, fwhm: 40)"));
+                }
+                if role == Role::Ior {
+                    return Err(ctx.err("a Gaussian is not an index of refraction"));
+                }
+                gaussian(*centre, *fwhm, ctx.range)
+            }
             SpectrumConfig::Checkerboard { .. } | SpectrumConfig::Bitmap { .. } => {
                 return Err(ctx
                     .err("a texture is not allowed here")
@@ -340,6 +372,23 @@ impl SpectrumConfig {
             }
         })
     }
+}
+
+/// A Gaussian tabulated finely enough for linear interpolation (step ≤ σ/20: relative error
+/// < 1e-3 at the peak) over the render range and ±6σ around the centre (beyond which it is
+/// < 1e-7 of its peak), so it is never cut off inside the range.
+fn gaussian(centre: f32, fwhm: f32, range: (f32, f32)) -> Curve {
+    let sigma = fwhm as f64 / (8.0 * std::f64::consts::LN_2).sqrt();
+    let lo = (range.0 as f64).min(centre as f64 - 6.0 * sigma).max(1.0);
+    let hi = (range.1 as f64).max(centre as f64 + 6.0 * sigma);
+    let step = (sigma / 20.0).min(1.0);
+    let n = ((hi - lo) / step).ceil() as usize + 1;
+    let nm: Vec<f64> = (0..n).map(|i| lo + i as f64 * step).collect();
+    let v: Vec<f64> = nm
+        .iter()
+        .map(|&l| (-0.5 * ((l - centre as f64) / sigma).powi(2)).exp())
+        .collect();
+    Curve::from_samples(&nm, &v)
 }
 
 /// Checks a texture placement.

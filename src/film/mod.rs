@@ -5,16 +5,12 @@ pub mod aov;
 
 pub use aov::{Aov, UintChannel};
 
-use crate::sensor::{Bands, XYZ_SLOTS};
-use crate::spectrum::color::XYZ_TO_SRGB;
-use glam::Vec3;
+use crate::sensor::Sensor;
 
-/// Which channels the film keeps.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Which channels the film keeps: the sensor's.
+#[derive(Clone, Debug)]
 pub struct FilmChannels {
-    pub rgb: bool,
-    pub xyz: bool,
-    pub bands: Option<Bands>,
+    pub sensor: Sensor,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -32,6 +28,8 @@ pub struct Film {
     pub band_centers: Vec<f32>,
     /// 32-bit unsigned channels (the id AOVs); float AOVs are in `channels`, after the colours.
     pub uint_channels: Vec<UintChannel>,
+    /// EXR header attributes the sensor adds (camera matrix, white balance, …).
+    pub header: Vec<(String, String)>,
 }
 
 /// The Fichet et al. 2021 name of an emissive spectral channel: `S0.550,000000nm`.
@@ -40,8 +38,8 @@ pub fn spectral_channel_name(nm: f32) -> String {
 }
 
 impl Film {
-    /// Builds the film from per-pixel accumulator means (`slots` values per pixel: X, Y, Z, then
-    /// one per band).
+    /// Builds the film from per-pixel accumulator means (`slots` values per pixel, laid out
+    /// as the sensor's `add` accumulates them).
     pub fn from_means(
         width: u32,
         height: u32,
@@ -51,44 +49,14 @@ impl Film {
     ) -> Film {
         let n = (width * height) as usize;
         debug_assert_eq!(means.len(), n * slots);
-        let mut channels = Vec::new();
-        let xyz_at =
-            |i: usize| Vec3::new(means[i * slots], means[i * slots + 1], means[i * slots + 2]);
-        if spec.rgb {
-            let rgb: Vec<Vec3> = (0..n).map(|i| XYZ_TO_SRGB * xyz_at(i)).collect();
-            for (c, name) in ["R", "G", "B"].iter().enumerate() {
-                channels.push(Channel {
-                    name: name.to_string(),
-                    data: rgb.iter().map(|v| v[c]).collect(),
-                });
-            }
-        }
-        if spec.xyz {
-            for (c, name) in ["X", "Y", "Z"].iter().enumerate() {
-                channels.push(Channel {
-                    name: name.to_string(),
-                    data: (0..n).map(|i| means[i * slots + c]).collect(),
-                });
-            }
-        }
-        let mut band_centers = Vec::new();
-        if let Some(b) = spec.bands {
-            for k in 0..b.count {
-                let center = b.center(k);
-                band_centers.push(center);
-                let slot = XYZ_SLOTS + k as usize;
-                channels.push(Channel {
-                    name: spectral_channel_name(center),
-                    data: (0..n).map(|i| means[i * slots + slot]).collect(),
-                });
-            }
-        }
+        let (channels, band_centers) = spec.sensor.channels(means, n);
         Film {
             width,
             height,
             channels,
             band_centers,
             uint_channels: Vec::new(),
+            header: spec.sensor.layers.header.clone(),
         }
     }
 

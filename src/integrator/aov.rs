@@ -32,13 +32,13 @@ pub fn add_layers(
 
 /// `stderr.Y` and one `stderr.<band>` per band, from per-pixel slot standard errors.
 fn stderr_layers(se: &[f32], channels: &crate::film::FilmChannels) -> Vec<Channel> {
-    let slots = crate::sensor::XYZ_SLOTS + channels.bands.map_or(0, |b| b.count as usize);
+    let slots = channels.sensor.slots();
     let pick = |slot: usize| se.iter().skip(slot).step_by(slots).copied().collect();
     let mut out = vec![Channel {
         name: "stderr.Y".into(),
         data: pick(1),
     }];
-    if let Some(b) = channels.bands {
+    if let Some(b) = channels.sensor.bands() {
         for k in 0..b.count {
             out.push(Channel {
                 name: format!("stderr.{}", crate::film::spectral_channel_name(b.center(k))),

@@ -70,18 +70,18 @@ pub fn render_film(
     stderr: bool,
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Film, RenderStats, Vec<f32>) {
-    let sensor = Sensor::new(channels.bands);
+    let sensor = &channels.sensor;
     let (means, stats, se) = match (settings.lanes, stderr) {
-        (1, false) => render_lanes::<1, false>(scene, settings, &sensor, progress),
-        (2, false) => render_lanes::<2, false>(scene, settings, &sensor, progress),
-        (4, false) => render_lanes::<4, false>(scene, settings, &sensor, progress),
-        (8, false) => render_lanes::<8, false>(scene, settings, &sensor, progress),
-        (16, false) => render_lanes::<16, false>(scene, settings, &sensor, progress),
-        (1, true) => render_lanes::<1, true>(scene, settings, &sensor, progress),
-        (2, true) => render_lanes::<2, true>(scene, settings, &sensor, progress),
-        (4, true) => render_lanes::<4, true>(scene, settings, &sensor, progress),
-        (8, true) => render_lanes::<8, true>(scene, settings, &sensor, progress),
-        (16, true) => render_lanes::<16, true>(scene, settings, &sensor, progress),
+        (1, false) => render_lanes::<1, false>(scene, settings, sensor, progress),
+        (2, false) => render_lanes::<2, false>(scene, settings, sensor, progress),
+        (4, false) => render_lanes::<4, false>(scene, settings, sensor, progress),
+        (8, false) => render_lanes::<8, false>(scene, settings, sensor, progress),
+        (16, false) => render_lanes::<16, false>(scene, settings, sensor, progress),
+        (1, true) => render_lanes::<1, true>(scene, settings, sensor, progress),
+        (2, true) => render_lanes::<2, true>(scene, settings, sensor, progress),
+        (4, true) => render_lanes::<4, true>(scene, settings, sensor, progress),
+        (8, true) => render_lanes::<8, true>(scene, settings, sensor, progress),
+        (16, true) => render_lanes::<16, true>(scene, settings, sensor, progress),
         (n, _) => panic!("{n} wavelengths per path is not supported (config validation lets only {SUPPORTED_LANES:?} through)"),
     };
     let film = Film::from_means(

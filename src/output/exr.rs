@@ -38,7 +38,7 @@ pub fn write(film: &Film, path: &Path, extra: &[(String, String)]) -> Result<(),
         text("spectralLayoutVersion", "1.0")?;
         text("emissiveUnits", "W.m^-2.sr^-1")?;
     }
-    for (k, v) in extra {
+    for (k, v) in film.header.iter().chain(extra) {
         text(k, v)?;
     }
     let layer = Layer::new(

@@ -153,7 +153,8 @@ pub fn write(
         .collect();
     let (lo, hi) = s.wavelengths.range();
     let c = &job.channels;
-    let bands = c.bands.map(|b| {
+    let layers = &c.sensor.layers;
+    let bands = c.sensor.bands().map(|b| {
         json!({
             "count": b.count,
             "range_nm": [b.lo, b.hi],
@@ -173,7 +174,7 @@ pub fn write(
             json!({
                 "name": a.name(),
                 "channels": a.channels().iter().map(|c| format!("{}.{c}", a.name()))
-                    .chain(c.bands.filter(|_| *a == crate::film::Aov::Stderr).into_iter().flat_map(|b| {
+                    .chain(c.sensor.bands().filter(|_| *a == crate::film::Aov::Stderr).into_iter().flat_map(|b| {
                         (0..b.count).map(move |k| format!("stderr.{}", crate::film::spectral_channel_name(b.center(k))))
                     }))
                     .collect::<Vec<_>>(),
@@ -190,8 +191,11 @@ pub fn write(
         "height": h,
         "camera": camera(&job.scene.camera, w, h),
         "sensor": {
-            "observer": if c.rgb || c.xyz { Some("CIE 1931 2°") } else { None },
-            "colour_channels": {"rgb": c.rgb.then_some("linear sRGB (D65 white), from XYZ"), "xyz": c.xyz.then_some("CIE 1931 XYZ")},
+            // The sensor's own description, as its EXR header attributes carry it (observer,
+            // camera, white balance, camera-to-XYZ matrix, exposure scale).
+            "attributes": layers.header.iter().map(|(k, v)| (k.clone(), Value::from(v.clone()))).collect::<serde_json::Map<_, _>>(),
+            "colour_channels": {"rgb": layers.rgb.iter().map(|r| format!("{r:?}")).collect::<Vec<_>>(), "xyz": layers.xyz},
+            "response_channels": layers.responses.iter().map(|r| r.text()).collect::<Vec<_>>(),
             "units": "spectral radiance, W m^-2 sr^-1 nm^-1 (bands: mean over the band); XYZ and RGB: the CMF-weighted integral with Y of a unit constant spectrum = 1",
             "bands": bands,
             "exposure": Value::Null,

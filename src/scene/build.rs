@@ -10,7 +10,6 @@ use crate::film::FilmChannels;
 use crate::filter::{Filter, FilterConfig};
 use crate::integrator::{RenderSettings, SUPPORTED_LANES};
 use crate::sampler::{SamplerKind, SOBOL_MAX_SPP};
-use crate::sensor::Bands;
 use crate::spectrum::{Curve, WavelengthSampler};
 use crate::texture::SpectralTexture;
 use std::path::Path;
@@ -209,44 +208,15 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         )?;
     }
 
-    // Outputs.
-    let o = &cfg.outputs;
-    let (blo, bhi) = o.band_range.unwrap_or(range);
-    let bands = match o.bands {
-        Some(0) => None,
-        Some(n) => Some(n),
-        None => Some((((bhi - blo) / 10.0).round() as u32).max(1)),
-    };
-    if bands.is_some() {
-        check(blo.is_finite() && bhi.is_finite() && blo < bhi && blo >= lo && bhi <= hi, file, "outputs.band_range",
-            format!("the band range ({blo}, {bhi}) nm must be increasing and inside the spectral range ({lo}, {hi}) nm"))?;
-    }
-    check(
-        bands.unwrap_or(0) <= 4096,
-        file,
-        "outputs.bands",
-        "more than 4096 spectral bands",
-    )?;
-    check(
-        o.rgb || o.xyz || bands.is_some(),
-        file,
-        "outputs",
-        "no output channels: enable rgb, xyz or bands",
-    )?;
-    if (o.rgb || o.xyz) && (lo > 360.0 || hi < 830.0) {
-        warnings.push(format!(
-            "{}: spectral.range: ({lo}, {hi}) nm does not cover the CIE observer's 360–830 nm; XYZ and RGB integrate only the rendered part",
-            file.display()
-        ));
-    }
+    // Outputs: the sensor (or the older `outputs`).
     let channels = FilmChannels {
-        rgb: o.rgb,
-        xyz: o.xyz,
-        bands: bands.map(|count| Bands {
-            lo: blo,
-            hi: bhi,
-            count,
-        }),
+        sensor: crate::sensor::setup::build(
+            cfg.sensor.as_ref(),
+            &cfg.outputs,
+            file,
+            range,
+            &mut warnings,
+        )?,
     };
 
     // Materials (by name, in name order); a default grey diffuse is added if a shape needs one.
@@ -353,7 +323,15 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         seed: s.seed,
         sampler: s.kind,
         lanes: sp.wavelengths,
-        wavelengths: WavelengthSampler::new(sp.sampling, lo, hi),
+        wavelengths: match sp.sampling {
+            // One cell per nm (at least 64) of the sensor's density (src/sensor/sampling.rs).
+            crate::spectrum::WavelengthSampling::Sensor => {
+                let cells = ((hi - lo).ceil() as usize).max(64);
+                let d = channels.sensor.sampling_density((lo, hi), cells);
+                WavelengthSampler::tabulated(lo, hi, &d)
+            }
+            k => WavelengthSampler::new(k, lo, hi),
+        },
         filter: Filter::new(&f.filter),
         path: cfg.integrator,
         dispersion: cfg.spectral.dispersion,

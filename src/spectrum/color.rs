@@ -1,4 +1,4 @@
-//! CIE 1931 colour matching and the XYZ ↔ linear sRGB conversion.
+//! CIE 1931 and 1964 colour matching and the XYZ ↔ linear sRGB conversion.
 
 use super::{data, table};
 use glam::{Mat3, Vec3};
@@ -42,29 +42,37 @@ impl Cmf {
 /// The CIE 1931 2° observer from `spectra/cmf/CIE1931_2deg.txt`.
 pub fn cie1931() -> &'static Cmf {
     static CMF: OnceLock<Cmf> = OnceLock::new();
-    CMF.get_or_init(|| {
-        let text = data::embedded("cmf/CIE1931_2deg").expect("CIE 1931 data is embedded");
-        let t = table::parse(text).expect("embedded CIE 1931 table parses");
-        let (x, y, z) = (
-            t.column("x").unwrap(),
-            t.column("y").unwrap(),
-            t.column("z").unwrap(),
-        );
-        let start = t.wavelengths[0];
-        for (i, &w) in t.wavelengths.iter().enumerate() {
-            assert_eq!(w, start + i as f64, "the CMF table is on a 1 nm grid");
-        }
-        let xyz: Vec<[f32; 3]> = (0..x.len())
-            .map(|i| [x[i] as f32, y[i] as f32, z[i] as f32])
-            .collect();
-        let y_integral = y.iter().sum::<f64>() - 0.5 * (y[0] + y[y.len() - 1]);
-        Cmf {
-            start: start as f32,
-            end: *t.wavelengths.last().unwrap() as f32,
-            xyz,
-            y_integral: y_integral as f32,
-        }
-    })
+    CMF.get_or_init(|| load_cmf("cmf/CIE1931_2deg"))
+}
+
+/// The CIE 1964 10° observer from `spectra/cmf/CIE1964_10deg.txt`.
+pub fn cie1964() -> &'static Cmf {
+    static CMF: OnceLock<Cmf> = OnceLock::new();
+    CMF.get_or_init(|| load_cmf("cmf/CIE1964_10deg"))
+}
+
+fn load_cmf(key: &str) -> Cmf {
+    let text = data::embedded(key).expect("CMF data is embedded");
+    let t = table::parse(text).expect("embedded CMF table parses");
+    let (x, y, z) = (
+        t.column("x").unwrap(),
+        t.column("y").unwrap(),
+        t.column("z").unwrap(),
+    );
+    let start = t.wavelengths[0];
+    for (i, &w) in t.wavelengths.iter().enumerate() {
+        assert_eq!(w, start + i as f64, "the CMF table is on a 1 nm grid");
+    }
+    let xyz: Vec<[f32; 3]> = (0..x.len())
+        .map(|i| [x[i] as f32, y[i] as f32, z[i] as f32])
+        .collect();
+    let y_integral = y.iter().sum::<f64>() - 0.5 * (y[0] + y[y.len() - 1]);
+    Cmf {
+        start: start as f32,
+        end: *t.wavelengths.last().unwrap() as f32,
+        xyz,
+        y_integral: y_integral as f32,
+    }
 }
 
 /// XYZ → linear sRGB (IEC 61966-2-1, D65 white).

@@ -18,6 +18,8 @@ pub enum WavelengthSampling {
     Visible,
     /// Uniform over the range: equal noise in every spectral band.
     Uniform,
+    /// From the sensor's own curves (Mitsuba 3's `specfilm`): see `sensor::sampling`.
+    Sensor,
 }
 
 // Constants of the visible distribution (Mitsuba 3 / Radziszewski et al. 2009).
@@ -33,6 +35,66 @@ pub struct WavelengthSampler {
     // Visible: tanh(k (lo − 538)) and tanh(k (hi − 538)) − tanh(k (lo − 538)).
     t_lo: f32,
     t_span: f32,
+    /// `Sensor`: the tabulated density (leaked once per scene load: a few kB, and it keeps the
+    /// sampler `Copy`).
+    table: Option<&'static Tabulated>,
+}
+
+/// A piecewise-constant density on equal cells over [lo, hi], sampled by its inverse CDF.
+#[derive(Debug)]
+pub struct Tabulated {
+    lo: f32,
+    cell: f32,
+    /// Density per cell (1/nm), normalised.
+    pdf: Vec<f32>,
+    /// CDF at the cell edges (len = cells + 1, from 0 to 1).
+    cdf: Vec<f32>,
+}
+
+impl Tabulated {
+    /// From non-negative cell values (any scale; at least one positive).
+    fn new(lo: f32, hi: f32, values: &[f32]) -> Self {
+        let cell = (hi - lo) / values.len() as f32;
+        let total: f64 = values.iter().map(|&v| v as f64).sum::<f64>() * cell as f64;
+        let pdf: Vec<f32> = values.iter().map(|&v| (v as f64 / total) as f32).collect();
+        let mut cdf = Vec::with_capacity(values.len() + 1);
+        let mut acc = 0.0f64;
+        cdf.push(0.0);
+        for &v in values {
+            acc += v as f64 * cell as f64 / total;
+            cdf.push(acc as f32);
+        }
+        *cdf.last_mut().unwrap() = 1.0;
+        Self { lo, cell, pdf, cdf }
+    }
+
+    #[inline]
+    fn sample(&self, u: f32) -> (f32, f32) {
+        // The last edge with cdf ≤ u; empty cells (pdf 0) are never chosen for u < 1.
+        let i = (self.cdf.partition_point(|&c| c <= u).max(1) - 1).min(self.pdf.len() - 1);
+        let p = self.pdf[i];
+        let t = if p > 0.0 {
+            ((u - self.cdf[i]) / (p * self.cell)).clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
+        let lambda = self.lo + (i as f32 + t) * self.cell;
+        // The density at the wavelength returned, so a λ rounded onto a cell edge carries the
+        // pdf that `pdf` reports for it.
+        (lambda, self.pdf(lambda))
+    }
+
+    #[inline]
+    fn pdf(&self, lambda: f32) -> f32 {
+        let i = ((lambda - self.lo) / self.cell) as i64;
+        self.pdf[i.clamp(0, self.pdf.len() as i64 - 1) as usize]
+    }
+
+    fn cdf(&self, lambda: f32) -> f32 {
+        let x = (lambda - self.lo) / self.cell;
+        let i = (x as i64).clamp(0, self.pdf.len() as i64 - 1) as usize;
+        (self.cdf[i] + (x - i as f32).clamp(0.0, 1.0) * self.pdf[i] * self.cell).min(1.0)
+    }
 }
 
 /// The wavelengths (nm) of one path and each lane's marginal pdf (1/nm).
@@ -68,12 +130,30 @@ impl WavelengthSampler {
     pub fn new(kind: WavelengthSampling, lo: f32, hi: f32) -> Self {
         let t_lo = (VIS_K * (lo - VIS_CENTER)).tanh();
         let t_span = (VIS_K * (hi - VIS_CENTER)).tanh() - t_lo;
+        assert!(
+            kind != WavelengthSampling::Sensor,
+            "Sensor sampling needs its density: WavelengthSampler::tabulated"
+        );
         Self {
             kind,
             lo,
             hi,
             t_lo,
             t_span,
+            table: None,
+        }
+    }
+
+    /// `Sensor` sampling from a density given as values on equal cells over [lo, hi].
+    pub fn tabulated(lo: f32, hi: f32, values: &[f32]) -> Self {
+        let table: &'static Tabulated = Box::leak(Box::new(Tabulated::new(lo, hi, values)));
+        Self {
+            kind: WavelengthSampling::Sensor,
+            lo,
+            hi,
+            t_lo: 0.0,
+            t_span: 1.0,
+            table: Some(table),
         }
     }
 
@@ -93,6 +173,7 @@ impl WavelengthSampler {
             WavelengthSampling::Visible => {
                 VIS_CENTER + (self.t_lo + u * self.t_span).atanh() * (1.0 / VIS_K)
             }
+            WavelengthSampling::Sensor => self.table.expect("tabulated").sample(u).0,
         };
         l.clamp(self.lo, self.hi)
     }
@@ -109,6 +190,7 @@ impl WavelengthSampler {
                 let c = (VIS_K * (lambda - VIS_CENTER)).cosh();
                 VIS_K / (c * c * self.t_span)
             }
+            WavelengthSampling::Sensor => self.table.expect("tabulated").pdf(lambda),
         }
     }
 
@@ -120,6 +202,7 @@ impl WavelengthSampler {
             WavelengthSampling::Visible => {
                 ((VIS_K * (l - VIS_CENTER)).tanh() - self.t_lo) / self.t_span
             }
+            WavelengthSampling::Sensor => self.table.expect("tabulated").cdf(l),
         }
     }
 
@@ -141,6 +224,12 @@ impl WavelengthSampler {
                 for j in 0..N {
                     lambda[j] = self.sample_one(lane_u(j));
                     pdf[j] = 1.0 / (self.hi - self.lo);
+                }
+            }
+            WavelengthSampling::Sensor => {
+                let t = self.table.expect("tabulated");
+                for j in 0..N {
+                    (lambda[j], pdf[j]) = t.sample(lane_u(j));
                 }
             }
             WavelengthSampling::Visible => {

@@ -21,14 +21,14 @@ PATCH, GAP = 1.0, 0.25
 DISTANCE = 40.0
 
 
-def reflectances() -> list[tuple[str, colour.SpectralDistribution]]:
+def reflectances(hi: float = 830.0) -> list[tuple[str, colour.SpectralDistribution]]:
     """The 24 patches, padded to 360–830 nm by holding the end values (the data stop at
     380 and 780 nm, where the CIE curves are < 0.2% of their peak)."""
     out = []
     for name, sd in colour.SDS_COLOURCHECKERS["ColorChecker N Ohta"].items():
         step = sd.shape.interval
         below = np.arange(360.0, sd.wavelengths[0], step)
-        above = np.arange(sd.wavelengths[-1] + step, 830.0 + step / 2, step)
+        above = np.arange(sd.wavelengths[-1] + step, hi + step / 2, step)
         wl = np.concatenate([below, sd.wavelengths, above])
         values = np.concatenate([np.full(len(below), sd.values[0]), sd.values, np.full(len(above), sd.values[-1])])
         out.append((name, colour.SpectralDistribution(dict(zip(wl, values)), name=name)))
@@ -40,15 +40,16 @@ def fov_deg() -> float:
     return float(np.degrees(2.0 * np.arctan(0.5 * width / DISTANCE)))
 
 
-def scene_ron(spp: int = 64, bands: int = 47) -> str:
+def scene_ron(spp: int = 64, bands: int = 47, sensor: str | None = None, emitter: str = 'Named("D65")', spectral: str = "sampling: Visible, wavelengths: 16", hi: float = 830.0) -> str:
     """The scene as prism RON text (24 pixels per patch side; 16 wavelengths per path, since
-    spectral noise dominates a flat patch under a constant sky)."""
+    spectral noise dominates a flat patch under a constant sky). `sensor` replaces the `outputs`
+    line, `emitter` is the sky's radiance, `hi` how far the reflectances are held (nm)."""
     width = COLS * PATCH + (COLS + 1) * GAP
     height = ROWS * PATCH + (ROWS + 1) * GAP
     px_per_unit = 24.0
     res = (round(width * px_per_unit), round(height * px_per_unit))
     materials, shapes = [], []
-    for i, (name, sd) in enumerate(reflectances()):
+    for i, (name, sd) in enumerate(reflectances(hi)):
         pairs = ", ".join(f"({w:g}, {v:.6f})" for w, v in zip(sd.wavelengths, sd.values))
         materials.append(f'        "{i:02d} {name}": Diffuse(reflectance: Tabulated([{pairs}])),')
         cx, cy = patch_center(i)
@@ -62,15 +63,15 @@ def scene_ron(spp: int = 64, bands: int = 47) -> str:
             f"    camera: (fov: {fov_deg():.6f}, fov_axis: X, to_world: [LookAt(origin: (0, 0, {DISTANCE}), target: (0, 0, 0), up: (0, 1, 0))]),",
             f"    film: (width: {res[0]}, height: {res[1]}, filter: Box()),",
             f"    sampler: (spp: {spp}, seed: 3),",
-            "    spectral: (sampling: Visible, wavelengths: 16),",
-            f"    outputs: (bands: {bands}),",
+            f"    spectral: ({spectral}),",
+            f"    outputs: (bands: {bands})," if sensor is None else f"    sensor: {sensor},",
             "    materials: {",
             *materials,
             "    },",
             "    shapes: [",
             *shapes,
             "    ],",
-            '    emitters: [Constant(radiance: Named("D65"))],',
+            f"    emitters: [Constant(radiance: {emitter})],",
             ")",
         ]
     )
