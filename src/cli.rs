@@ -85,6 +85,10 @@ pub struct RenderArgs {
     /// Exposure of the preview in stops (the PNG shows radiance × 2^exposure).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub exposure: f32,
+    /// Memory the render may use, e.g. `8GiB` or `512MiB` (default: what the machine has
+    /// available); a scene whose estimated need exceeds it is refused before rendering.
+    #[arg(long, value_parser = crate::resources::parse_size)]
+    pub max_memory: Option<u64>,
     /// No progress output (the summary line is still printed).
     #[arg(short, long)]
     pub quiet: bool,
@@ -102,8 +106,12 @@ pub fn main() -> i32 {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render(&args),
-        Command::Export(args) => crate::scene::load(&args.scene, |_| {})
-            .and_then(|job| crate::export::export(&job, &args.scene, &args.output)),
+        Command::Export(args) => {
+            // Export allocates no film: the memory check is for renders.
+            crate::resources::configure(Some(u64::MAX), None);
+            crate::scene::load(&args.scene, |_| {})
+                .and_then(|job| crate::export::export(&job, &args.scene, &args.output))
+        }
     };
     match result {
         Ok(()) => 0,
@@ -121,6 +129,18 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     if let Some(0) = args.threads {
         return Err(Error::Other("--threads must be at least 1".into()));
     }
+    if !args.exposure.is_finite() {
+        return Err(crate::error::InputError::new(
+            &args.scene,
+            format!(
+                "--exposure {} is not a finite number of stops",
+                args.exposure
+            ),
+        )
+        .hint("give a number such as --exposure -1.5")
+        .into());
+    }
+    crate::resources::configure(args.max_memory, args.threads);
     let t_load = Instant::now();
     let job = crate::scene::load(&args.scene, |cfg| {
         if let Some(spp) = args.spp {

@@ -85,6 +85,19 @@ impl Film {
         }
     }
 
+    /// Pixels with a non-finite value in any channel: an accumulation that overflowed f32
+    /// although every sample was finite. One pass over the image, after rendering.
+    pub fn nonfinite_pixels(&self) -> u64 {
+        let n = (self.width * self.height) as usize;
+        let mut bad = vec![false; n];
+        for c in &self.channels {
+            for (b, v) in bad.iter_mut().zip(&c.data) {
+                *b |= !v.is_finite();
+            }
+        }
+        bad.iter().filter(|&&b| b).count() as u64
+    }
+
     pub fn channel(&self, name: &str) -> Option<&[f32]> {
         self.channels
             .iter()

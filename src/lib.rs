@@ -18,6 +18,7 @@ pub mod interaction;
 pub mod math;
 pub mod output;
 pub mod ray;
+pub mod resources;
 pub mod sampler;
 pub mod scene;
 pub mod sensor;

@@ -11,9 +11,11 @@
 //! )
 //! ```
 
+pub mod input_file;
 pub mod ior;
 mod parse;
 pub mod spectrum;
+mod unique_keys;
 
 use crate::accel::AccelKind;
 use crate::bsdf::microfacet::Distribution;
@@ -47,6 +49,7 @@ pub struct SceneConfig {
     pub spectral: SpectralConfig,
     pub outputs: OutputConfig,
     /// Materials by name; shapes refer to them. `{ "white": Diffuse(reflectance: Rgb(0.8, 0.8, 0.8)) }`
+    #[serde(deserialize_with = "unique_keys::materials")]
     pub materials: BTreeMap<String, MaterialConfig>,
     pub shapes: Vec<ShapeConfig>,
     /// Emitters that are not attached to a shape (area lights are given on their shape).

@@ -22,8 +22,11 @@ pub fn parse_str(text: &str, file: &Path) -> Result<SceneConfig, InputError> {
 
 /// Reads and parses a scene file.
 pub fn parse_file(path: &Path) -> Result<SceneConfig, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        InputError::new(path, format!("cannot read the scene file: {e}")).hint("check the path")
+    let bytes = super::input_file::read(path, super::input_file::Kind::Scene)
+        .map_err(|m| InputError::new(path, m))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        InputError::new(path, format!("the scene file is not UTF-8 text: {e}"))
+            .hint("save it as UTF-8")
     })?;
     Ok(parse_str(&text, path)?)
 }

@@ -102,6 +102,11 @@ impl Context<'_> {
     }
 }
 
+/// The largest emitted radiance, intensity or irradiance (or envmap texel times its scale)
+/// prism accepts: 16 orders of magnitude above the sun's spectral radiance, and 18 below
+/// f32's largest value (3.4e38), a margin for what a path multiplies it by.
+pub const MAX_EMISSION: f32 = 1e20;
+
 fn check_finite(ctx: &Context, what: &str, v: f32) -> Result<(), InputError> {
     if v.is_finite() {
         Ok(())
@@ -132,6 +137,11 @@ impl SpectrumConfig {
                     "the spectrum is negative ({min}) somewhere in {lo}–{hi} nm"
                 ))
                 .hint("spectral values must be ≥ 0"));
+        }
+        if role == Role::Emission && max > MAX_EMISSION {
+            return Err(ctx
+                .err(format!("the emission reaches {max:e} in {lo}–{hi} nm, above the {MAX_EMISSION:e} prism accepts"))
+                .hint("a path multiplies it by its throughput, pdfs and the sensor's weights in 32-bit floats, which would overflow to infinity; the sun's spectral radiance is about 2e4 W m⁻² sr⁻¹ nm⁻¹: scale the value down"));
         }
         if role == Role::Reflectance && max > 1.0 + 1e-4 {
             return Err(ctx
@@ -184,6 +194,8 @@ impl SpectrumConfig {
                     ctx.err(m)
                         .hint("texture paths are relative to the scene file")
                 })?;
+                img.validate(texture::TexelRange::Reflectance)
+                    .map_err(|m| ctx.err(m))?;
                 SpectralTexture::Bitmap(Box::new(img.to_reflectance(
                     *wrap,
                     *filter,
@@ -256,13 +268,13 @@ impl SpectrumConfig {
             }
             SpectrumConfig::File { path, column } => {
                 let full = ctx.file.parent().unwrap_or(Path::new(".")).join(path);
-                let text = std::fs::read_to_string(&full).map_err(|e| {
-                    ctx.err(format!(
-                        "cannot read spectrum file `{}`: {e}",
-                        full.display()
-                    ))
-                    .hint("paths are relative to the scene file")
-                })?;
+                let text = super::input_file::read(&full, super::input_file::Kind::Spectrum)
+                    .and_then(|b| {
+                        String::from_utf8(b).map_err(|e| {
+                            format!("spectrum file `{}` is not UTF-8 text: {e}", full.display())
+                        })
+                    })
+                    .map_err(|m| ctx.err(m).hint("paths are relative to the scene file"))?;
                 let t = table::parse(&text).map_err(|e| {
                     InputError::new(&full, e.message.clone())
                         .at(e.line, 1)

@@ -39,7 +39,8 @@ pub struct RenderSettings {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderStats {
     pub samples: u64,
-    /// Camera samples whose radiance was NaN or infinite: counted, and left out of the image.
+    /// Camera samples whose radiance was NaN or infinite (counted, and left out of the image),
+    /// plus pixels whose accumulated value overflowed to a non-finite one (left in it).
     pub invalid_samples: u64,
     /// Camera samples cut down by the opt-in `clamp`.
     pub clamped_samples: u64,
@@ -55,7 +56,7 @@ pub fn render(
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Film, RenderStats) {
     let sensor = Sensor::new(channels.bands);
-    let (means, stats) = match settings.lanes {
+    let (means, mut stats) = match settings.lanes {
         1 => render_lanes::<1>(scene, settings, &sensor, progress),
         2 => render_lanes::<2>(scene, settings, &sensor, progress),
         4 => render_lanes::<4>(scene, settings, &sensor, progress),
@@ -70,6 +71,8 @@ pub fn render(
         &means,
         sensor.slots(),
     );
+    // Finite samples can still sum past f32's range; such pixels count as invalid too.
+    stats.invalid_samples += film.nonfinite_pixels();
     (film, stats)
 }
 

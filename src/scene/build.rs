@@ -236,6 +236,18 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         }),
     };
 
+    // The film's memory, before meshes and textures load (again with the BVH below).
+    let mut plan = crate::resources::Plan {
+        width: f.width,
+        height: f.height,
+        slots: crate::sensor::XYZ_SLOTS + bands.unwrap_or(0) as usize,
+        channels: 3 * (o.rgb as usize + o.xyz as usize) + bands.unwrap_or(0) as usize,
+        caustics: cfg.integrator.caustics.is_some(),
+        threads: crate::resources::threads(),
+        prims: 0,
+    };
+    crate::resources::check(&plan, file)?;
+
     // Materials (by name, in name order); a default grey diffuse is added if a shape needs one.
     let mut names: Vec<&String> = cfg.materials.keys().collect();
     let mut materials = Vec::new();
@@ -333,6 +345,8 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
          `cargo build --release --features embree` (needs Embree 3, Debian: libembree-dev), \
          or use `accel: Bvh`",
     )?;
+    plan.prims = shapes.iter().map(|s| s.prim_count() as u64).sum();
+    crate::resources::check(&plan, file)?;
     let scene = Scene::new(
         camera,
         shapes,

@@ -152,6 +152,15 @@ pub fn emitter(
                     k / img.width
                 )));
             }
+            let peak = img.pixels.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
+            if peak * scale > crate::config::spectrum::MAX_EMISSION {
+                return Err(err(format!(
+                    "`{}`'s brightest texel, {peak:e}, times scale {scale} exceeds the {:e} prism accepts",
+                    full.display(),
+                    crate::config::spectrum::MAX_EMISSION
+                ))
+                .hint("the radiance would overflow 32-bit floats while the map is sampled; scale the map down"));
+            }
             let negative = img
                 .pixels
                 .iter()

@@ -21,6 +21,17 @@ pub fn transform(ops: &[TransformOp], file: &Path, field: &str) -> Result<Transf
                     &f,
                     "the matrix has non-finite entries",
                 )?;
+                let last = rows[3];
+                check(
+                    last == [0.0, 0.0, 0.0, 1.0],
+                    file,
+                    &f,
+                    format!(
+                        "the matrix's last row is {last:?}, not [0, 0, 0, 1]: prism takes affine \
+                         transforms only (a projective one would bend straight rays); write the \
+                         last row as (0, 0, 0, 1)"
+                    ),
+                )?;
                 Mat4::from_cols_array_2d(rows).transpose()
             }
             TransformOp::Translate(t) => {

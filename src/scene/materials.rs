@@ -8,7 +8,7 @@ use crate::config::{
 };
 use crate::error::InputError;
 use crate::spectrum::{metals, Curve, Ior, RelativeIor};
-use crate::texture::{self, FloatTexture, SpectralTexture};
+use crate::texture::{self, FloatTexture, SpectralTexture, TexelRange};
 use std::path::Path;
 
 /// Builds material `name`; its spectra are checked over the render's wavelength `range`.
@@ -381,7 +381,10 @@ fn roughness(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, 
             check(*value1)?;
             float(f, field, file)
         }
-        FloatConfig::Texture(FloatTextureConfig::Bitmap { .. }) => float(f, field, file),
+        // Texels are clamped (above), so only non-finite ones are refused.
+        FloatConfig::Texture(FloatTextureConfig::Bitmap { .. }) => {
+            float_in(f, field, file, TexelRange::Finite)
+        }
     }
 }
 
@@ -423,6 +426,16 @@ fn specular(
 
 /// A scalar parameter in [0, 1] (a blend weight, an opacity).
 fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, InputError> {
+    float_in(f, field, file, TexelRange::Fraction)
+}
+
+/// As `float`, with bitmap texels checked against `range`.
+fn float_in(
+    f: &FloatConfig,
+    field: &str,
+    file: &Path,
+    range: TexelRange,
+) -> Result<FloatTexture, InputError> {
     let ctx = spectrum_ctx(file, field, (0.0, 1.0));
     Ok(match f {
         FloatConfig::Value(v) => {
@@ -462,7 +475,8 @@ fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, Inpu
                     .field(field)
                     .hint("texture paths are relative to the scene file")
             })?;
-            // Values outside [0, 1] (HDR images) are clamped when evaluated.
+            img.validate(range)
+                .map_err(|m| InputError::new(file, m).field(field))?;
             FloatTexture::Bitmap(Box::new(img.to_luminance(
                 *wrap,
                 *filter,

@@ -37,8 +37,13 @@ fn load_obj(path: &Path) -> Result<Mesh, String> {
         single_index: true,
         ..Default::default()
     };
+    let file = crate::config::input_file::open(path, crate::config::input_file::Kind::Mesh)?;
+    // prism takes materials from the scene, so `mtllib` files are not opened at all.
     let (models, _materials) =
-        tobj::load_obj(path, &opts).map_err(|e| format!("`{}`: OBJ {e}", path.display()))?;
+        tobj::load_obj_buf(&mut std::io::BufReader::new(file), &opts, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+        .map_err(|e| format!("`{}`: OBJ {e}", path.display()))?;
     let mut mesh = Mesh::default();
     let all_normals = models.iter().all(|m| !m.mesh.normals.is_empty());
     let all_uvs = models.iter().all(|m| !m.mesh.texcoords.is_empty());
@@ -189,7 +194,7 @@ impl PropertyAccess for PlyOther {
 
 fn load_ply(path: &Path) -> Result<Mesh, String> {
     let name = path.display();
-    let file = std::fs::File::open(path).map_err(|e| format!("`{name}`: {e}"))?;
+    let file = crate::config::input_file::open(path, crate::config::input_file::Kind::Mesh)?;
     let mut reader = Reader::new(std::io::BufReader::new(file));
     let header = Parser::<PlyOther>::new()
         .read_header(&mut reader)
