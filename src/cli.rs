@@ -103,7 +103,16 @@ pub enum Switch {
 
 /// Runs the CLI; returns the process exit code.
 pub fn main() -> i32 {
-    let cli = Cli::parse();
+    run(std::env::args_os())
+}
+
+/// As `main`, with the command line given (the fuzzer runs prism in-process through it).
+pub fn run<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = Cli::parse_from(args);
     let result = match cli.command {
         Command::Render(args) => render(&args),
         Command::Export(args) => {

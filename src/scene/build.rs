@@ -136,6 +136,12 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         )?,
     }
     let cam_t = geometry::transform(&c.to_world, file, "camera.to_world")?;
+    super::extent::check_point(
+        cam_t.m.w_axis.truncate(),
+        file,
+        "camera.to_world",
+        "the camera",
+    )?;
     let camera = Camera::new(
         cam_t,
         c.fov,
@@ -265,6 +271,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     for (i, sc) in cfg.shapes.iter().enumerate() {
         let field = format!("shapes[{i}]");
         let shape = geometry::shape(sc, file, &field, base, &mut warnings)?;
+        super::extent::check_shape(&shape, file, &field)?;
         let mat = match &sc.material {
             Some(name) => match names.iter().position(|n| *n == name) {
                 Some(k) => k as u32,

@@ -4,6 +4,7 @@
 
 mod build;
 mod emitters;
+pub mod extent;
 mod geometry;
 mod materials;
 
