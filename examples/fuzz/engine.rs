@@ -904,7 +904,7 @@ pub fn load_corpus_case(dir: &Path) -> Case {
     for e in std::fs::read_dir(dir).unwrap() {
         let p = e.unwrap().path();
         let name = p.file_name().unwrap().to_string_lossy().into_owned();
-        if name != "scene.ron" && name != "README" {
+        if !matches!(name.as_str(), "scene.ron" | "README" | "expect") {
             file = Some((name, std::fs::read(&p).unwrap()));
         }
     }

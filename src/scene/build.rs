@@ -249,6 +249,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         slots: crate::sensor::XYZ_SLOTS + bands.unwrap_or(0) as usize,
         channels: 3 * (o.rgb as usize + o.xyz as usize) + bands.unwrap_or(0) as usize,
         caustics: cfg.integrator.caustics.is_some(),
+        lanes: sp.wavelengths,
         threads: crate::resources::threads(),
         prims: 0,
     };

@@ -44,8 +44,7 @@ pub fn check_shape(shape: &Shape, file: &Path, field: &str) -> Result<(), InputE
         }
         let (lo, hi) = shape.prim_geom(i).bounds();
         far = far.max(lo.abs().max_element()).max(hi.abs().max_element());
-        // NaN compares false: `!(far <= MAX)` also catches it.
-        if !(far <= MAX_COORD) {
+        if !(lo.is_finite() && hi.is_finite()) || far > MAX_COORD {
             return Err(too_far(file, field, "the shape", far));
         }
     }
