@@ -89,13 +89,9 @@ impl Film {
     /// although every sample was finite. One pass over the image, after rendering.
     pub fn nonfinite_pixels(&self) -> u64 {
         let n = (self.width * self.height) as usize;
-        let mut bad = vec![false; n];
-        for c in &self.channels {
-            for (b, v) in bad.iter_mut().zip(&c.data) {
-                *b |= !v.is_finite();
-            }
-        }
-        bad.iter().filter(|&&b| b).count() as u64
+        (0..n)
+            .filter(|&i| self.channels.iter().any(|c| !c.data[i].is_finite()))
+            .count() as u64
     }
 
     pub fn channel(&self, name: &str) -> Option<&[f32]> {
@@ -109,6 +105,21 @@ impl Film {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Finite means can still overflow in the RGB conversion (3e38 · 3.24 > f32::MAX): such a
+    /// pixel is counted, a normal one is not.
+    #[test]
+    fn overflowed_pixels_are_counted() {
+        let spec = FilmChannels {
+            rgb: true,
+            xyz: true,
+            bands: None,
+        };
+        let means = [0.2, 0.3, 0.1, 3e38, 3e38, 3e38];
+        let film = Film::from_means(2, 1, &spec, &means, 3);
+        assert!(film.channel("X").unwrap().iter().all(|v| v.is_finite()));
+        assert_eq!(film.nonfinite_pixels(), 1);
+    }
 
     #[test]
     fn fichet_channel_names() {

@@ -259,9 +259,9 @@ mod tests {
             threads: 2,
             prims: 0,
         });
-        assert_eq!(e.parts[0].1, (1u64 << 30) * (50 * 4 + 12 + 53 * 4));
+        assert_eq!(e.parts[0].1, (1u64 << 30) * 53 * 4 * 3);
         assert!(
-            human(e.total()).starts_with("424.0 GiB"),
+            human(e.total()).starts_with("636.0 GiB"),
             "{}",
             human(e.total())
         );
