@@ -136,21 +136,31 @@ pub fn check(plan: &Plan, file: &Path) -> Result<(), InputError> {
     if loaded > 0 {
         detail.push(format!("already loaded: {}", human(loaded)));
     }
+    // The part that needs the most names the field and the fix.
+    let geometry = plan.prims * BVH_BYTES_PER_PRIM > est.parts[0].1;
+    let (field, fix) = if geometry {
+        ("shapes", "use fewer or smaller meshes")
+    } else {
+        (
+            "film",
+            "make the film smaller (film.width, film.height), write fewer spectral bands \
+             (outputs.bands, 0 for none)",
+        )
+    };
     Err(InputError::new(
         file,
         format!(
             "the render needs about {} of memory ({}), more than {what} {}",
-            human(loaded + need),
+            human(loaded.saturating_add(need)),
             detail.join("; "),
             human(have)
         ),
     )
-    .field("film")
-    .hint(
-        "make the film smaller (film.width, film.height), write fewer spectral bands \
-         (outputs.bands, 0 for none), or, if the memory will be there, raise the limit with \
-         --max-memory (e.g. --max-memory 64GiB)",
-    ))
+    .field(field)
+    .hint(format!(
+        "{fix}, or, if the memory will be there, raise the limit with --max-memory (e.g. \
+         --max-memory 64GiB)"
+    )))
 }
 
 /// `MemAvailable` from /proc/meminfo, in bytes.
