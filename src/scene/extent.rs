@@ -6,6 +6,7 @@
 //! of headroom), 13 orders beyond the 1e5 scale of scenes/stress/scale_1e5.ron.
 
 use crate::error::InputError;
+use crate::math::Transform;
 use crate::shape::Shape;
 use glam::Vec3;
 use std::path::Path;
@@ -49,4 +50,26 @@ pub fn check_shape(shape: &Shape, file: &Path, field: &str) -> Result<(), InputE
         }
     }
     Ok(())
+}
+
+/// Refuses a transform whose matrix or inverse has an entry beyond `MAX_COORD`: a scale
+/// outside [1e-18, 1e18] on some axis. Normals go through the inverse; squared, such an entry
+/// overflows or underflows f32, and the normal normalises to NaN (the fuzzer found a disk
+/// scaled by −1e38 along its flat axis, which has finite bounds but NaN normals).
+pub fn check_transform(t: &Transform, file: &Path, field: &str) -> Result<(), InputError> {
+    let m = t.m.to_cols_array();
+    let inv = t.inv.to_cols_array();
+    let big = m.iter().chain(&inv).fold(0.0f32, |a, v| a.max(v.abs()));
+    if big <= MAX_COORD {
+        return Ok(());
+    }
+    Err(InputError::new(
+        file,
+        format!(
+            "the transform (or its inverse) has an entry of {big:e}: a scale beyond \
+             [1e-18, 1e18] on some axis, which prism's 32-bit geometry cannot normalise"
+        ),
+    )
+    .field(field)
+    .hint("check the Scale and Matrix steps for a misplaced exponent"))
 }

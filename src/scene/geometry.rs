@@ -72,14 +72,16 @@ pub fn transform(ops: &[TransformOp], file: &Path, field: &str) -> Result<Transf
         };
         m = step * m;
     }
-    Transform::from_matrix(m).ok_or_else(|| {
+    let t = Transform::from_matrix(m).ok_or_else(|| {
         InputError::new(
             file,
             "the transform is singular (it flattens space) or not finite",
         )
         .field(field)
         .hint("check for a zero scale or a degenerate matrix")
-    })
+    })?;
+    super::extent::check_transform(&t, file, field)?;
+    Ok(t)
 }
 
 /// Builds shape `sc` (called `field` in errors); mesh paths are relative to `base`.
