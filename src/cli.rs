@@ -111,6 +111,10 @@ pub struct RenderArgs {
     /// Exposure of the preview in stops (the PNG shows radiance × 2^exposure).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub exposure: f32,
+    /// Memory the render may use, e.g. `8GiB` or `512MiB` (default: what the machine has
+    /// available); a scene whose estimated need exceeds it is refused before rendering.
+    #[arg(long, value_parser = crate::resources::parse_size)]
+    pub max_memory: Option<u64>,
     /// No progress output (the summary line is still printed).
     #[arg(short, long)]
     pub quiet: bool,
@@ -125,10 +129,23 @@ pub enum Switch {
 
 /// Runs the CLI; returns the process exit code.
 pub fn main() -> i32 {
-    let cli = Cli::parse();
+    run(std::env::args_os())
+}
+
+/// As `main`, with the command line given (the fuzzer runs prism in-process through it).
+pub fn run<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = Cli::parse_from(args);
     let result = match cli.command {
         Command::Render(args) => render(&args),
-        Command::Export(args) => export(&args),
+        Command::Export(args) => {
+            // Export allocates no film: the memory check is for renders.
+            crate::resources::configure(Some(u64::MAX), None);
+            export(&args)
+        }
         Command::ProbeBsdf(a) => crate::probe::probe(
             &a.scene,
             &a.material,
@@ -159,6 +176,18 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
             crate::error::InputError::new(&args.scene, "--threads must be at least 1").into(),
         );
     }
+    if !args.exposure.is_finite() {
+        return Err(crate::error::InputError::new(
+            &args.scene,
+            format!(
+                "--exposure {} is not a finite number of stops",
+                args.exposure
+            ),
+        )
+        .hint("give a number such as --exposure -1.5")
+        .into());
+    }
+    crate::resources::configure(args.max_memory, args.threads);
     output::interrupt::install();
     let out = args
         .output

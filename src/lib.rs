@@ -20,6 +20,7 @@ pub mod math;
 pub mod output;
 pub mod probe;
 pub mod ray;
+pub mod resources;
 pub mod sampler;
 pub mod scene;
 pub mod sensor;

@@ -5,6 +5,7 @@
 //! Texture space as Mitsuba 3: (u, v) = (0, 0) is the image's first (top) row and first column;
 //! `uv_scale` and `uv_offset` map surface uv to texture space (uv · scale + offset).
 
+use crate::config::input_file;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 use glam::Vec2;
@@ -264,17 +265,37 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
     }
     if ext.as_deref() == Some("exr") {
         // (width, pixels): the reader hands us the size first, then every pixel.
-        type Store = (usize, Vec<[f32; 3]>);
-        let img = exr::prelude::read_first_rgba_layer_from_file(
-            path,
-            |res, _| -> Store { (res.0, vec![[0.0; 3]; res.0 * res.1]) },
-            |s: &mut Store, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-                s.1[pos.1 * s.0 + pos.0] = [r, g, b]
-            },
-        )
-        .map_err(|e| format!("`{name}`: cannot read OpenEXR: {e}"))?;
-        let (width, pixels) = img.layer_data.channel_data.pixels;
-        let height = pixels.len().checked_div(width).unwrap_or(0);
+        // (width, pixels): the reader hands us the size first, then every pixel. A size over
+        // the texel limit gets no storage (and the image is refused below).
+        type Store = (usize, usize, Vec<[f32; 3]>);
+        let file = input_file::open(path, input_file::Kind::Texture)?;
+        use exr::prelude::{ReadChannels, ReadLayers};
+        let img = exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .rgba_channels(
+                |res, _| -> Store {
+                    let n = res.0 as u64 * res.1 as u64;
+                    let keep = n <= input_file::MAX_TEXELS;
+                    let store = if keep {
+                        vec![[0.0; 3]; n as usize]
+                    } else {
+                        Vec::new()
+                    };
+                    (res.0, res.1, store)
+                },
+                |s: &mut Store, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                    if let Some(p) = s.2.get_mut(pos.1 * s.0 + pos.0) {
+                        *p = [r, g, b]
+                    }
+                },
+            )
+            .first_valid_layer()
+            .all_attributes()
+            .from_buffered(std::io::BufReader::new(file))
+            .map_err(|e| format!("`{name}`: cannot read OpenEXR: {e}"))?;
+        let (width, height, pixels) = img.layer_data.channel_data.pixels;
+        check_texels(path, width, height)?;
         let source = Some(ImageSource {
             path: path.to_path_buf(),
             raw,
@@ -286,7 +307,20 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
             source,
         });
     }
-    let img = image::open(path).map_err(|e| format!("`{name}`: cannot read image: {e}"))?;
+    let file = input_file::open(path, input_file::Kind::Texture)?;
+    let mut reader = image::ImageReader::new(std::io::BufReader::new(file));
+    match image::ImageFormat::from_path(path) {
+        Ok(f) => reader.set_format(f),
+        Err(_) => {
+            reader = reader
+                .with_guessed_format()
+                .map_err(|e| format!("`{name}`: cannot read image: {e}"))?
+        }
+    }
+    let img = reader
+        .decode()
+        .map_err(|e| format!("`{name}`: cannot read image: {e}"))?;
+    check_texels(path, img.width() as usize, img.height() as usize)?;
     let linear = ext.as_deref() == Some("hdr");
     let rgb = img.to_rgb32f();
     let (width, height) = (rgb.width() as usize, rgb.height() as usize);
@@ -307,6 +341,24 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
     })
 }
 
+fn check_texels(path: &std::path::Path, width: usize, height: usize) -> Result<(), String> {
+    if width as u64 * height as u64 > input_file::MAX_TEXELS {
+        return Err(format!(
+            "`{}` is {width}×{height} pixels, more than the {} (16384 × 8192) prism reads for \
+             one image (scenes/README.md, \"Input files\"); downsample it",
+            path.display(),
+            input_file::MAX_TEXELS
+        ));
+    }
+    Ok(())
+}
+
+/// Rec. 709 luminance of linear RGB.
+#[inline]
+fn luminance(p: [f32; 3]) -> f32 {
+    0.212_672_9 * p[0] + 0.715_152_2 * p[1] + 0.072_175 * p[2]
+}
+
 /// The sRGB transfer function's inverse.
 #[inline]
 pub fn srgb_decode(v: f32) -> f32 {
@@ -317,7 +369,62 @@ pub fn srgb_decode(v: f32) -> f32 {
     }
 }
 
+/// What an image's texels must be for the parameter it gives, checked at load.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TexelRange {
+    /// A reflectance: every component finite and in [0, 1].
+    Reflectance,
+    /// An opacity or a blend weight: the luminance finite and in [0, 1].
+    Fraction,
+    /// The luminance finite (a roughness, clamped where it is used).
+    Finite,
+}
+
+/// Rounding of an 8-bit white's sRGB decode and luminance weights may pass 1 by an ulp or two.
+const RANGE_SLACK: f32 = 1e-4;
+
 impl RgbImage {
+    /// Refuses the first texel outside `range`, naming the file, the texel (x, y, from the top
+    /// left) and its value, with the fix.
+    pub fn validate(&self, range: TexelRange) -> Result<(), String> {
+        let in01 = |v: f32| (0.0..=1.0 + RANGE_SLACK).contains(&v);
+        for (i, p) in self.pixels.iter().enumerate() {
+            let y = luminance(*p);
+            let problem = match range {
+                TexelRange::Reflectance => (0..3).find(|&c| !in01(p[c])).map(|c| {
+                    (
+                        format!("{} = {}", ["R", "G", "B"][c], p[c]),
+                        "a reflectance",
+                    )
+                }),
+                TexelRange::Fraction => {
+                    (!in01(y)).then(|| (format!("luminance {y}"), "an opacity or blend weight"))
+                }
+                TexelRange::Finite => {
+                    (!y.is_finite()).then(|| (format!("luminance {y}"), "a roughness"))
+                }
+            };
+            if let Some((value, what)) = problem {
+                let name = self
+                    .source
+                    .as_ref()
+                    .map_or("the image".into(), |s| format!("`{}`", s.path.display()));
+                let bound = if range == TexelRange::Finite {
+                    "finite"
+                } else {
+                    "in [0, 1]"
+                };
+                return Err(format!(
+                    "{name}: texel ({}, {}) has {value}, but {what} must be {bound}; fix or \
+                     rescale the image (an 8-bit PNG always is in range)",
+                    i % self.width.max(1),
+                    i / self.width.max(1)
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Uplifts every texel to a bounded reflectance spectrum (components clamped to [0, 1]).
     pub fn to_reflectance(&self, wrap: Wrap, filter: TexFilter, map: UvMap) -> Grid<Sigmoid> {
         let texels = self
@@ -338,11 +445,7 @@ impl RgbImage {
 
     /// Luminance (Rec. 709 weights) of every texel, for scalar parameters.
     pub fn to_luminance(&self, wrap: Wrap, filter: TexFilter, map: UvMap) -> Grid<f32> {
-        let texels = self
-            .pixels
-            .iter()
-            .map(|p| 0.212_672_9 * p[0] + 0.715_152_2 * p[1] + 0.072_175 * p[2])
-            .collect();
+        let texels = self.pixels.iter().map(|p| luminance(*p)).collect();
         Grid {
             width: self.width,
             height: self.height,

@@ -12,10 +12,12 @@
 //! ```
 
 pub mod camera;
+pub mod input_file;
 pub mod ior;
 mod parse;
 pub mod sensor;
 pub mod spectrum;
+mod unique_keys;
 
 use crate::accel::AccelKind;
 use crate::bsdf::microfacet::Distribution;
@@ -54,6 +56,7 @@ pub struct SceneConfig {
     /// (configs/README.md).
     pub sensor: Option<sensor::SensorField>,
     /// Materials by name; shapes refer to them. `{ "white": Diffuse(reflectance: Rgb(0.8, 0.8, 0.8)) }`
+    #[serde(deserialize_with = "unique_keys::materials")]
     pub materials: BTreeMap<String, MaterialConfig>,
     pub shapes: Vec<ShapeConfig>,
     /// Emitters that are not attached to a shape (area lights are given on their shape).

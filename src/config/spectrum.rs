@@ -111,6 +111,11 @@ impl Context<'_> {
     }
 }
 
+/// The largest emitted radiance, intensity or irradiance (or envmap texel times its scale)
+/// prism accepts: 16 orders of magnitude above the sun's spectral radiance, and 18 below
+/// f32's largest value (3.4e38), a margin for what a path multiplies it by.
+pub const MAX_EMISSION: f32 = 1e20;
+
 fn check_finite(ctx: &Context, what: &str, v: f32) -> Result<(), InputError> {
     if v.is_finite() {
         Ok(())
@@ -141,6 +146,11 @@ impl SpectrumConfig {
                     "the spectrum is negative ({min}) somewhere in {lo}–{hi} nm"
                 ))
                 .hint("spectral values must be ≥ 0"));
+        }
+        if role == Role::Emission && max > MAX_EMISSION {
+            return Err(ctx
+                .err(format!("the emission reaches {max:e} in {lo}–{hi} nm, above the {MAX_EMISSION:e} prism accepts"))
+                .hint("a path multiplies it by its throughput, pdfs and the sensor's weights in 32-bit floats, which would overflow to infinity; the sun's spectral radiance is about 2e4 W m⁻² sr⁻¹ nm⁻¹: scale the value down"));
         }
         if role == Role::Reflectance && max > 1.0 + 1e-4 {
             return Err(ctx
@@ -194,6 +204,8 @@ impl SpectrumConfig {
                     let hint = "texture paths are relative to the scene file";
                     crate::scene::inputs::missing_hint(err, &full, hint)
                 })?;
+                img.validate(texture::TexelRange::Reflectance)
+                    .map_err(|m| ctx.err(m))?;
                 SpectralTexture::Bitmap(Box::new(img.to_reflectance(
                     *wrap,
                     *filter,
@@ -272,16 +284,11 @@ impl SpectrumConfig {
             SpectrumConfig::File { path, column } => {
                 let full = ctx.file.parent().unwrap_or(Path::new(".")).join(path);
                 crate::scene::inputs::record(&full);
-                let bytes = std::fs::read(&full).map_err(|e| {
-                    let err = ctx.err(format!(
-                        "cannot read spectrum file `{}`: {e}",
-                        full.display()
-                    ));
-                    match full.exists() {
-                        true => err,
-                        false => err.hint("paths are relative to the scene file"),
-                    }
-                })?;
+                let bytes = super::input_file::read(&full, super::input_file::Kind::Spectrum)
+                    .map_err(|m| {
+                        let hint = "paths are relative to the scene file";
+                        crate::scene::inputs::missing_hint(ctx.err(m), &full, hint)
+                    })?;
                 let text = super::parse::utf8(bytes, &full)?;
                 let t = table::parse(&text).map_err(|e| {
                     InputError::new(&full, e.message.clone())

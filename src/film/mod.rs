@@ -60,6 +60,15 @@ impl Film {
         }
     }
 
+    /// Pixels with a non-finite value in any channel: an accumulation that overflowed f32
+    /// although every sample was finite. One pass over the image, after rendering.
+    pub fn nonfinite_pixels(&self) -> u64 {
+        let n = (self.width * self.height) as usize;
+        (0..n)
+            .filter(|&i| self.channels.iter().any(|c| !c.data[i].is_finite()))
+            .count() as u64
+    }
+
     pub fn channel(&self, name: &str) -> Option<&[f32]> {
         self.channels
             .iter()
@@ -71,6 +80,19 @@ impl Film {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Finite means can still overflow in the RGB conversion (3e38 · 3.24 > f32::MAX): such a
+    /// pixel is counted, a normal one is not.
+    #[test]
+    fn overflowed_pixels_are_counted() {
+        let spec = FilmChannels {
+            sensor: crate::sensor::Sensor::new(None),
+        };
+        let means = [0.2, 0.3, 0.1, 3e38, 3e38, 3e38];
+        let film = Film::from_means(2, 1, &spec, &means, 3);
+        assert!(film.channel("X").unwrap().iter().all(|v| v.is_finite()));
+        assert_eq!(film.nonfinite_pixels(), 1);
+    }
 
     #[test]
     fn fichet_channel_names() {

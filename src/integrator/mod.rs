@@ -40,7 +40,8 @@ pub struct RenderSettings {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderStats {
     pub samples: u64,
-    /// Camera samples whose radiance was NaN or infinite: counted, and left out of the image.
+    /// Camera samples whose radiance was NaN or infinite (counted, and left out of the image),
+    /// plus pixels whose accumulated value overflowed to a non-finite one (left in it).
     pub invalid_samples: u64,
     /// Camera samples cut down by the opt-in `clamp`.
     pub clamped_samples: u64,
@@ -71,7 +72,7 @@ pub fn render_film(
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Film, RenderStats, Vec<f32>) {
     let sensor = &channels.sensor;
-    let (means, stats, se) = match (settings.lanes, stderr) {
+    let (means, mut stats, se) = match (settings.lanes, stderr) {
         (1, false) => render_lanes::<1, false>(scene, settings, sensor, progress),
         (2, false) => render_lanes::<2, false>(scene, settings, sensor, progress),
         (4, false) => render_lanes::<4, false>(scene, settings, sensor, progress),
@@ -91,6 +92,8 @@ pub fn render_film(
         &means,
         sensor.slots(),
     );
+    // Finite samples can still sum past f32's range; such pixels count as invalid too.
+    stats.invalid_samples += film.nonfinite_pixels();
     (film, stats, se)
 }
 

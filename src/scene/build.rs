@@ -149,6 +149,12 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         )?,
     }
     let cam_t = geometry::transform(&c.to_world, file, "camera.to_world")?;
+    super::extent::check_point(
+        cam_t.m.w_axis.truncate(),
+        file,
+        "camera.to_world",
+        "the camera",
+    )?;
     let camera = super::camera::camera(
         c,
         cam_t,
@@ -219,6 +225,20 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         )?,
     };
 
+    // The film's memory, before meshes and textures load (again with the BVH below).
+    let mut plan = crate::resources::Plan {
+        width: f.width,
+        height: f.height,
+        slots: channels.sensor.slots(),
+        // Every slot becomes a channel, and each RGB space three more.
+        channels: channels.sensor.slots() + 3 * channels.sensor.layers.rgb.len(),
+        caustics: cfg.integrator.caustics.is_some(),
+        lanes: sp.wavelengths,
+        threads: crate::resources::threads(),
+        prims: 0,
+    };
+    crate::resources::check(&plan, file)?;
+
     // Materials (by name, in name order); a default grey diffuse is added if a shape needs one.
     let mut names: Vec<&String> = cfg.materials.keys().collect();
     let mut materials = Vec::new();
@@ -252,6 +272,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
             continue;
         }
         let shape = geometry::shape(sc, file, &field, base, &mut warnings)?;
+        super::extent::check_shape(&shape, file, &field)?;
         let mat = match &sc.material {
             Some(name) => match names.iter().position(|n| *n == name) {
                 Some(k) => k as u32,
@@ -344,6 +365,8 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
          `cargo build --release --features embree` (needs Embree 3, Debian: libembree-dev), \
          or use `accel: Bvh`",
     )?;
+    plan.prims = shapes.iter().map(|s| s.prim_count() as u64).sum();
+    crate::resources::check(&plan, file)?;
     let mut scene = Scene::new(
         camera,
         shapes,

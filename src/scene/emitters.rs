@@ -37,6 +37,12 @@ pub fn emitter(
                 &format!("{field}.position"),
                 "the position must be finite",
             )?;
+            super::extent::check_point(
+                Vec3::from(*position),
+                file,
+                &format!("{field}.position"),
+                "the light",
+            )?;
             Emitter::Point {
                 position: Vec3::from(*position),
                 intensity: emission(intensity, "intensity")?,
@@ -66,6 +72,12 @@ pub fn emitter(
                 format!("beam_width {beam} must lie in [0, cutoff_angle = {cutoff}] degrees"),
             )?;
             let t = transform(to_world, file, &format!("{field}.to_world"))?;
+            super::extent::check_point(
+                t.m.w_axis.truncate(),
+                file,
+                &format!("{field}.to_world"),
+                "the light",
+            )?;
             Emitter::Spot(Spot::new(
                 &t,
                 emission(intensity, "intensity")?,
@@ -98,6 +110,13 @@ pub fn emitter(
                 }
                 None => transform(to_world, file, &format!("{field}.to_world"))?.vector(Vec3::Z),
             };
+            // A huge finite vector's squared length overflows: its normalisation would be NaN.
+            check(
+                d.normalize_or_zero() != Vec3::ZERO,
+                file,
+                field,
+                format!("the direction {d} cannot be normalised (too long or too short)"),
+            )?;
             Emitter::Directional {
                 direction: d.normalize(),
                 irradiance: emission(irradiance, "irradiance")?,
@@ -153,6 +172,15 @@ pub fn emitter(
                     k % img.width,
                     k / img.width
                 )));
+            }
+            let peak = img.pixels.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
+            if peak * scale > crate::config::spectrum::MAX_EMISSION {
+                return Err(err(format!(
+                    "`{}`'s brightest texel, {peak:e}, times scale {scale} exceeds the {:e} prism accepts",
+                    full.display(),
+                    crate::config::spectrum::MAX_EMISSION
+                ))
+                .hint("the radiance would overflow 32-bit floats while the map is sampled; scale the map down"));
             }
             let negative = img
                 .pixels

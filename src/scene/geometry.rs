@@ -21,6 +21,17 @@ pub fn transform(ops: &[TransformOp], file: &Path, field: &str) -> Result<Transf
                     &f,
                     "the matrix has non-finite entries",
                 )?;
+                let last = rows[3];
+                check(
+                    last == [0.0, 0.0, 0.0, 1.0],
+                    file,
+                    &f,
+                    format!(
+                        "the matrix's last row is {last:?}, not [0, 0, 0, 1]: prism takes affine \
+                         transforms only (a projective one would bend straight rays); write the \
+                         last row as (0, 0, 0, 1)"
+                    ),
+                )?;
                 Mat4::from_cols_array_2d(rows).transpose()
             }
             TransformOp::Translate(t) => {
@@ -61,14 +72,16 @@ pub fn transform(ops: &[TransformOp], file: &Path, field: &str) -> Result<Transf
         };
         m = step * m;
     }
-    Transform::from_matrix(m).ok_or_else(|| {
+    let t = Transform::from_matrix(m).ok_or_else(|| {
         InputError::new(
             file,
             "the transform is singular (it flattens space) or not finite",
         )
         .field(field)
         .hint("check for a zero scale or a degenerate matrix")
-    })
+    })?;
+    super::extent::check_transform(&t, file, field)?;
+    Ok(t)
 }
 
 /// Builds shape `sc` (called `field` in errors); mesh paths are relative to `base`.

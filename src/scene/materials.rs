@@ -8,7 +8,7 @@ use crate::config::{
 };
 use crate::error::InputError;
 use crate::spectrum::{metals, Curve, Ior, RelativeIor};
-use crate::texture::{self, FloatTexture, SpectralTexture};
+use crate::texture::{self, FloatTexture, SpectralTexture, TexelRange};
 use std::path::Path;
 
 /// Builds material `name`; its spectra are checked over the render's wavelength `range`.
@@ -404,7 +404,10 @@ fn roughness(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, 
             check(*value1)?;
             float(f, field, file)
         }
-        FloatConfig::Texture(FloatTextureConfig::Bitmap { .. }) => float(f, field, file),
+        // Texels are clamped (above), so only non-finite ones are refused.
+        FloatConfig::Texture(FloatTextureConfig::Bitmap { .. }) => {
+            float_in(f, field, file, TexelRange::Finite)
+        }
     }
 }
 
@@ -446,6 +449,16 @@ fn specular(
 
 /// A scalar parameter in [0, 1] (a blend weight, an opacity).
 pub(super) fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTexture, InputError> {
+    float_in(f, field, file, TexelRange::Fraction)
+}
+
+/// As `float`, with bitmap texels checked against `range`.
+fn float_in(
+    f: &FloatConfig,
+    field: &str,
+    file: &Path,
+    range: TexelRange,
+) -> Result<FloatTexture, InputError> {
     let ctx = spectrum_ctx(file, field, (0.0, 1.0));
     Ok(match f {
         FloatConfig::Value(v) => {
@@ -485,7 +498,8 @@ pub(super) fn float(f: &FloatConfig, field: &str, file: &Path) -> Result<FloatTe
                 let hint = "texture paths are relative to the scene file";
                 super::inputs::missing_hint(err, &full, hint)
             })?;
-            // Values outside [0, 1] (HDR images) are clamped when evaluated.
+            img.validate(range)
+                .map_err(|m| InputError::new(file, m).field(field))?;
             FloatTexture::Bitmap(Box::new(img.to_luminance(
                 *wrap,
                 *filter,

@@ -5,6 +5,7 @@
 mod build;
 mod camera;
 mod emitters;
+pub mod extent;
 mod geometry;
 pub mod gltf;
 pub mod inputs;

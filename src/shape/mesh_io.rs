@@ -38,8 +38,13 @@ fn load_obj(path: &Path) -> Result<Mesh, String> {
         single_index: true,
         ..Default::default()
     };
+    let file = crate::config::input_file::open(path, crate::config::input_file::Kind::Mesh)?;
+    // prism takes materials from the scene, so `mtllib` files are not opened at all.
     let (models, _materials) =
-        tobj::load_obj(path, &opts).map_err(|e| match obj_error_line(path, &e) {
+        tobj::load_obj_buf(&mut std::io::BufReader::new(file), &opts, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+        .map_err(|e| match obj_error_line(path, &e) {
             Some((n, line)) => format!("`{}` line {n} (`{line}`): OBJ {e}", path.display()),
             None => format!("`{}`: OBJ {e}", path.display()),
         })?;
@@ -262,7 +267,7 @@ fn has_trailing_data(reader: &mut Reader<impl std::io::BufRead>, ascii: bool) ->
 
 fn load_ply(path: &Path) -> Result<Mesh, String> {
     let name = path.display();
-    let file = std::fs::File::open(path).map_err(|e| format!("`{name}`: {e}"))?;
+    let file = crate::config::input_file::open(path, crate::config::input_file::Kind::Mesh)?;
     let mut reader = Reader::new(std::io::BufReader::new(file));
     let header = Parser::<PlyOther>::new()
         .read_header(&mut reader)

@@ -1,0 +1,143 @@
+//! The mutation fuzzer's fixed-seed sample and regression corpus (docs/fuzzing.md). The engine
+//! is examples/fuzz/engine.rs; its long run is `cargo run --release --example fuzz`.
+//!
+//! - `oracle_*`: the verdicts can fail: stand-in programs that panic, hang, die by a signal or
+//!   exit 1 are each flagged.
+//! - `corpus_replays`: every case of tests/fuzz_corpus/ (fuzzer findings and hostile inputs of
+//!   issue 14) runs through the binary: exit 0 or 2, and the exit code and messages its
+//!   `expect` file names.
+//! - `fixed_seed_sample`: 5000 cases in-process (`prism::cli::run`, panics caught) and every
+//!   tenth of them also through the binary under `prlimit --as` with a time bound.
+
+#[path = "../examples/fuzz/engine.rs"]
+mod engine;
+
+use engine::{Verdict, LIMITS};
+use std::path::PathBuf;
+use std::time::Duration;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn bin() -> PathBuf {
+    PathBuf::from(env!("CARGO_BIN_EXE_prism"))
+}
+
+fn work(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("prism-fuzz-{name}-{}", std::process::id()))
+}
+
+#[test]
+fn oracle_flags_panics_hangs_signals_and_wrong_exit_codes() {
+    let dir = work("oracle");
+    std::fs::create_dir_all(&dir).unwrap();
+    let limits = engine::Limits {
+        timeout: Duration::from_secs(1),
+        ..LIMITS
+    };
+    let scene = dir.join("scene.ron");
+    std::fs::write(&scene, "()").unwrap();
+    let cases = [
+        (
+            "echo \"thread 'main' panicked at x\" >&2; exit 101",
+            "panic",
+        ),
+        ("echo \"thread 'main' panicked at x\" >&2; exit 2", "panic"),
+        ("sleep 30", "hang"),
+        ("kill -SEGV $$", "signal"),
+        ("exit 1", "wrong-exit"),
+        ("exit 2", "ok"),
+        ("exit 0", "ok"),
+    ];
+    for (i, (body, want)) in cases.iter().enumerate() {
+        let fake = dir.join(format!("fake{i}.sh"));
+        std::fs::write(&fake, format!("#!/bin/sh\n{body}\n")).unwrap();
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let (v, _) = engine::run_binary(&fake, &scene, &dir, &limits);
+        assert_eq!(v.label(), *want, "`{body}` gave {v:?}");
+    }
+}
+
+#[test]
+fn corpus_replays() {
+    let corpus = repo().join("tests/fuzz_corpus");
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&corpus)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    assert!(dirs.len() >= 10, "the corpus is in tests/fuzz_corpus/");
+    let dir = work("corpus");
+    for d in dirs {
+        let case = engine::load_corpus_case(&d);
+        let scene = engine::materialise(&case, &dir, &repo());
+        let (v, err) = engine::run_binary(&bin(), &scene, &dir, &LIMITS);
+        assert!(v.is_ok(), "{}: {v:?}\n{err}", d.display());
+        if let Ok(expect) = std::fs::read_to_string(d.join("expect")) {
+            let mut lines = expect.lines();
+            let code: i32 = lines.next().unwrap().parse().unwrap();
+            assert_eq!(v, Verdict::Ok(code), "{}: {err}", d.display());
+            for want in lines.filter(|l| !l.is_empty()) {
+                assert!(err.contains(want), "{}: no `{want}` in\n{err}", d.display());
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// In-process cases; every `BINARY_EVERY`-th also runs the binary. Measured on this machine
+/// (2 cores, shared): see docs/fuzzing.md.
+const CASES: u64 = 5000;
+const BINARY_EVERY: u64 = 10;
+const SEED: u64 = 14;
+
+#[test]
+fn fixed_seed_sample() {
+    let seeds = engine::load_seeds(&repo());
+    assert!(seeds.scenes.len() >= 30 && seeds.files.len() >= 20);
+    engine::install_panic_hook();
+    let jobs = 2;
+    let failures = std::sync::Mutex::new(Vec::new());
+    let counts = std::sync::Mutex::new([0u64; 2]);
+    std::thread::scope(|s| {
+        for j in 0..jobs {
+            let (seeds, failures, counts) = (&seeds, &failures, &counts);
+            s.spawn(move || {
+                let dir = work(&format!("sample{j}"));
+                for k in (j..CASES).step_by(jobs as usize) {
+                    let case = engine::make_case(seeds, SEED, k);
+                    let scene = engine::materialise(&case, &dir, &repo());
+                    let mut vs =
+                        vec![(engine::run_in_process(&scene, &dir, &LIMITS), String::new())];
+                    if k % BINARY_EVERY == 0 {
+                        let scene = engine::materialise(&case, &dir, &repo());
+                        vs.push(engine::run_binary(&bin(), &scene, &dir, &LIMITS));
+                    }
+                    for (v, err) in vs {
+                        if let Verdict::Ok(c) = v {
+                            counts.lock().unwrap()[(c == 2) as usize] += 1;
+                        } else {
+                            failures
+                                .lock()
+                                .unwrap()
+                                .push(format!("case {k} ({}): {v:?}\n{err}", case.what));
+                        }
+                    }
+                }
+                let _ = std::fs::remove_dir_all(&dir);
+            });
+        }
+    });
+    let f = failures.into_inner().unwrap();
+    assert!(f.is_empty(), "{} failing cases:\n{}", f.len(), f.join("\n"));
+    let [ok, refused] = counts.into_inner().unwrap();
+    // Both outcomes occur in quantity: the sample exercises rendering, not only the parser.
+    assert!(
+        ok > 200 && refused > 200,
+        "{ok} rendered, {refused} refused"
+    );
+    eprintln!("{ok} rendered, {refused} refused");
+}
