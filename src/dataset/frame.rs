@@ -113,7 +113,11 @@ pub fn render_frame(
     let t = Instant::now();
     let job = cache.job(scene, scene_file)?;
     let s = &job.settings;
-    let (film, stats) = integrator::render(&job.scene, s, &job.channels, &|_| {});
+    let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
+    let (mut film, stats, se) =
+        integrator::render_film(&job.scene, s, &job.channels, stderr, &|_| {});
+    // The scene's AOV layers, and the pixel-centre hits the sidecar's boxes come from.
+    let hits = integrator::aov::add_layers(job, &mut film, Some(&se));
     let exr = stem.with_extension("exr");
     let extra = vec![
         ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
@@ -125,14 +129,30 @@ pub fn render_frame(
         ),
     ];
     output::exr::write(&film, &exr, &extra)?;
-    let mut files = vec![exr];
+    let mut files = vec![exr.clone()];
     if let Some(exposure) = preview {
         let png = stem.with_extension("png");
         output::png::write(&film, &png, exposure)?;
         files.push(png);
     }
     let json = stem.with_extension("json");
-    let mut text = serde_json::to_string_pretty(params)
+    // The frame's sidecar (camera, sensor, objects; docs/sidecar.md) with its sampled
+    // parameters under `frame`.
+    let mut sidecar = output::sidecar::value(
+        job,
+        scene_file,
+        &exr,
+        &hits,
+        &stats,
+        t.elapsed().as_secs_f64(),
+    );
+    sidecar["frame"] = params.clone();
+    // A frame's files depend on (config, frame index) alone; its render time is in the
+    // manifest.
+    if let Some(r) = sidecar["render"].as_object_mut() {
+        r.remove("seconds");
+    }
+    let mut text = serde_json::to_string_pretty(&sidecar)
         .map_err(|e| Error::Other(format!("frame parameters: {e}")))?;
     text.push('\n');
     output::write_atomic(&json, |tmp| {

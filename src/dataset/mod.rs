@@ -15,6 +15,7 @@ pub mod manifest;
 pub mod place;
 pub mod plan;
 pub mod run;
+pub mod sheet;
 pub mod vary;
 
 pub use base::Base;

@@ -197,6 +197,15 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    // The contact sheet covers every frame of this selection that has a preview.
+    let pngs: Vec<_> = frames
+        .iter()
+        .map(|&i| out.stem(i).with_extension("png"))
+        .filter(|p| preview.is_some() && p.is_file())
+        .collect();
+    if let Some(p) = super::sheet::write(&pngs, &out.root.join("contact_sheet.png"))? {
+        eprintln!("contact sheet: {}", p.display());
+    }
     summary.seconds = t0.elapsed().as_secs_f64();
     eprintln!(
         "dataset: {} frame(s) selected: {} rendered, {} skipped (already done), {} failed, in {:.2} s (geometry built {} time(s)) -> {}",

@@ -116,6 +116,22 @@ pub fn write(
     stats: &RenderStats,
     seconds: f64,
 ) -> Result<(), Error> {
+    let v = value(job, scene_file, exr, hits, stats, seconds);
+    let text = serde_json::to_string_pretty(&v).map_err(|e| Error::Other(e.to_string()))?;
+    super::write_atomic(path, |tmp| {
+        std::fs::write(tmp, text.as_bytes()).map_err(|e| e.to_string())
+    })
+}
+
+/// The sidecar's JSON (`prism dataset` adds the frame's sampled parameters to it).
+pub fn value(
+    job: &Job,
+    scene_file: &Path,
+    exr: &Path,
+    hits: &[Option<Hit>],
+    stats: &RenderStats,
+    seconds: f64,
+) -> Value {
     let s = &job.settings;
     let (w, h) = (s.width, s.height);
     // 2D boxes and visible pixels from the pixel-centre ids (the instance layer's).
@@ -183,7 +199,7 @@ pub fn write(
             })
         })
         .collect();
-    let v = json!({
+    json!({
         "format": "prism-sidecar",
         "version": 1,
         "image": exr.file_name().map(|f| f.to_string_lossy().into_owned()),
@@ -219,9 +235,5 @@ pub fn write(
         "labels": job.objects.labels.iter().enumerate().map(|(i, l)| json!({"id": i + 1, "name": l})).collect::<Vec<_>>(),
         "materials": job.objects.materials.iter().enumerate().map(|(i, m)| json!({"id": i + 1, "name": m})).collect::<Vec<_>>(),
         "objects": objects,
-    });
-    let text = serde_json::to_string_pretty(&v).map_err(|e| Error::Other(e.to_string()))?;
-    super::write_atomic(path, |tmp| {
-        std::fs::write(tmp, text.as_bytes()).map_err(|e| e.to_string())
     })
 }

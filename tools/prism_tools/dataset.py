@@ -64,9 +64,15 @@ class Frame:
         return p if p.exists() else None
 
     @cached_property
-    def params(self) -> dict:
-        """The frame's JSON: its sampled parameters (and the sidecar's fields, when present)."""
+    def sidecar(self) -> dict:
+        """The frame's JSON: the render's sidecar (docs/sidecar.md: camera, sensor, objects)
+        with the frame's sampled parameters under `frame`."""
         return json.loads((self.root / f"frames/{self.index:06d}.json").read_text())
+
+    @property
+    def params(self) -> dict:
+        """The frame's sampled parameters."""
+        return self.sidecar["frame"]
 
     @cached_property
     def _image(self) -> tuple[list[str], np.ndarray, dict]:
