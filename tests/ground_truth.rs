@@ -199,3 +199,97 @@ fn bad_input_names_file_field_and_fix() {
     let e = load_err(r#"(camera: (model: Orthographic()))"#);
     assert_eq!(e.field.as_deref(), Some("camera.model"));
 }
+
+/// A sphere of `material` in front of the constant background, with 31 bands of 10 nm.
+fn albedo_film(material: &str) -> Film {
+    layers(
+        &format!(
+            r#"(
+    camera: (fov: 40, to_world: [LookAt(origin: (0, 0, 4), target: (0, 0, 0), up: (0, 1, 0))]),
+    film: (width: 24, height: 16),
+    sampler: (spp: 1),
+    outputs: (bands: 31, band_range: (400, 710)),
+    materials: {{"m": {material}}},
+    shapes: [(shape: Sphere(radius: 1), material: "m")],
+    emitters: [Constant(radiance: Constant(1))],
+    aovs: ["depth", "albedo"],
+)"#
+        ),
+        2,
+    )
+}
+
+fn band_names(f: &Film) -> Vec<(f32, String)> {
+    let names: Vec<(f32, String)> = (0..31)
+        .map(|k| {
+            let nm = 405.0 + 10.0 * k as f32;
+            (
+                nm,
+                format!("albedo.{}", prism::film::spectral_channel_name(nm)),
+            )
+        })
+        .collect();
+    for (_, n) in &names {
+        ch(f, n);
+    }
+    names
+}
+
+/// Constant ρ: every band is ρ (to f32 rounding) and R = G = B = ρ within 1e-3 (the XYZ → sRGB
+/// matrix's 7-digit coefficients map D65's XYZ to white only to ~1e-4); background 0.
+#[test]
+fn albedo_of_constant_reflectance_is_that_reflectance() {
+    let f = albedo_film("Diffuse(reflectance: Constant(0.37))");
+    let depth = ch(&f, "depth.Z");
+    let (mut hit, mut miss) = (0, 0);
+    for (i, d) in depth.iter().enumerate() {
+        let want = if d.is_finite() { 0.37 } else { 0.0 };
+        for c in ["R", "G", "B"] {
+            let v = ch(&f, &format!("albedo.{c}"))[i];
+            assert!((v - want).abs() < 1e-3, "pixel {i} {c}: {v} vs {want}");
+        }
+        for (_, n) in band_names(&f) {
+            assert!((ch(&f, &n)[i] - want).abs() < 1e-6, "pixel {i} {n}");
+        }
+        if d.is_finite() {
+            hit += 1
+        } else {
+            miss += 1
+        }
+    }
+    assert!(hit > 50 && miss > 50, "{hit} hits, {miss} misses");
+}
+
+/// An Rgb reflectance: the bands are the uplifted spectrum (each band's mean within 2e-3 of its
+/// value at the centre: the sigmoid's curvature over 10 nm), and R/G/B give back the input
+/// within 0.01 (the rgb2spec table's fit error in sRGB, well under 0.01 for mid-gamut colours).
+/// A twosided material seen from outside is its front; a conductor has no diffuse albedo.
+#[test]
+fn albedo_of_rgb_reflectance_matches_uplift() {
+    let rgb = [0.7f32, 0.4, 0.2];
+    let f = albedo_film("Twosided(bsdf: Diffuse(reflectance: Rgb(0.7, 0.4, 0.2)), back: Some(Diffuse(reflectance: Constant(0.9))))");
+    let curve = prism::spectrum::Curve::rgb_reflectance(rgb);
+    let i = ch(&f, "depth.Z")
+        .iter()
+        .position(|d| d.is_finite())
+        .unwrap();
+    for (c, want) in ["R", "G", "B"].iter().zip(rgb) {
+        let v = ch(&f, &format!("albedo.{c}"))[i];
+        assert!((v - want).abs() < 0.01, "{c}: {v} vs {want}");
+    }
+    for (nm, n) in band_names(&f) {
+        let (v, want) = (ch(&f, &n)[i], curve.eval_one(nm));
+        assert!((v - want).abs() < 2e-3, "{n}: {v} vs {want}");
+    }
+    let f = albedo_film("Conductor(material: \"Au\")");
+    assert!(ch(&f, "albedo.G").iter().all(|v| *v == 0.0));
+}
+
+#[test]
+fn albedo_bad_input() {
+    let e = load_err(r#"(aovs: ["albedos"])"#);
+    assert_eq!(e.field.as_deref(), Some("aovs[0]"));
+    assert!(e.hint.unwrap().contains("albedo"));
+    let e = load_err(r#"(aovs: ["albedo", "albedo"])"#);
+    assert_eq!(e.field.as_deref(), Some("aovs[1]"));
+}

@@ -14,6 +14,8 @@
 //!   Instance ids are 1 + the shape's index in `shapes`, label ids 1 + the label's index in the
 //!   sidecar's sorted `labels`, material ids 1 + the material's index in the sidecar's
 //!   `materials`; 32-bit unsigned EXR channels.
+//! - `albedo`: the material's diffuse reflectance at the pixel-centre hit (definition in
+//!   `integrator::albedo`); background 0.
 //! - `stderr`: each pixel's standard error of Y and of every band, √(s²/spp) with s² the
 //!   unbiased variance of its camera samples' contributions (the colour channels are unchanged).
 
@@ -33,10 +35,11 @@ pub enum Aov {
     Material,
     Alpha,
     Stderr,
+    Albedo,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 13] = [
+    pub const ALL: [Aov; 14] = [
         Aov::Distance,
         Aov::Depth,
         Aov::Position,
@@ -50,6 +53,7 @@ impl Aov {
         Aov::Material,
         Aov::Alpha,
         Aov::Stderr,
+        Aov::Albedo,
     ];
 
     /// The name in `aovs: [...]` and `--aovs`, and the EXR layer's name.
@@ -68,6 +72,7 @@ impl Aov {
             Aov::Material => "material",
             Aov::Alpha => "alpha",
             Aov::Stderr => "stderr",
+            Aov::Albedo => "albedo",
         }
     }
 
@@ -85,6 +90,8 @@ impl Aov {
             Aov::Alpha => &["A"],
             // And one per spectral band, named as the band (`stderr.S0.550,000000nm`).
             Aov::Stderr => &["Y"],
+            // And one per band, as for `stderr` (`albedo.S0.550,000000nm`).
+            Aov::Albedo => &["R", "G", "B"],
         }
     }
 
@@ -109,6 +116,7 @@ impl Aov {
             Aov::Material => "1 + index of the shape's material (materials; 0: none)",
             Aov::Alpha => "fraction of the pixel's camera samples that hit a surface (filtered like radiance)",
             Aov::Stderr => "standard error of the pixel's Y and of each band (stderr.S0.<λ>nm) from the spread of its camera samples: sqrt(sample variance / spp)",
+            Aov::Albedo => "diffuse reflectance of the material at the pixel-centre hit (textures at its uv): R/G/B linear sRGB under D65 (constant rho gives R=G=B=rho), and each band's mean (albedo.S0.<λ>nm); conductors and dielectrics 0; 0: none",
         }
     }
 

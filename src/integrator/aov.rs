@@ -27,6 +27,11 @@ pub fn add_layers(
     if let (true, Some(se)) = (job.aovs.contains(&Aov::Stderr), stderr) {
         film.channels.extend(stderr_layers(se, &job.channels));
     }
+    if job.aovs.contains(&Aov::Albedo) {
+        let bands = job.channels.sensor.bands();
+        film.channels
+            .extend(super::albedo::layers(&job.scene, &hits, bands));
+    }
     hits
 }
 
@@ -57,6 +62,8 @@ pub struct Hit {
     pub ns: Vec3,
     pub uv: Vec2,
     pub shape: u32,
+    /// The camera ray meets the side the shading normal points to (`twosided`'s front).
+    pub front: bool,
 }
 
 /// The first hit of the ray through each pixel centre, row-major.
@@ -73,6 +80,7 @@ pub fn first_hits(scene: &Scene, width: u32, height: u32) -> Vec<Option<Hit>> {
                 ns: si.frame.n,
                 uv: si.uv,
                 shape: si.shape,
+                front: ray.d.dot(si.frame.n) < 0.0,
             })
         })
         .collect()
@@ -164,7 +172,7 @@ pub fn layers(
             Aov::Uv => push(&mut floats, aov, &|h| {
                 h.map_or([0.0; 3], |h| [h.uv.x, h.uv.y, 0.0])
             }),
-            Aov::Stderr => {} // from the colour pass: `add_layers`
+            Aov::Stderr | Aov::Albedo => {} // `add_layers`
             Aov::Alpha => floats.push(Channel {
                 name: "alpha.A".into(),
                 data: coverage(scene, settings),

@@ -1,6 +1,7 @@
 //! Rendering: the image is cut into tiles rendered in parallel; every pixel takes all its
 //! samples in order, so its value depends only on (scene, seed, pixel) and never on threads.
 
+pub mod albedo;
 pub mod aov;
 pub mod caustics;
 pub mod path;

@@ -190,8 +190,8 @@ pub fn value(
             json!({
                 "name": a.name(),
                 "channels": a.channels().iter().map(|c| format!("{}.{c}", a.name()))
-                    .chain(c.sensor.bands().filter(|_| *a == crate::film::Aov::Stderr).into_iter().flat_map(|b| {
-                        (0..b.count).map(move |k| format!("stderr.{}", crate::film::spectral_channel_name(b.center(k))))
+                    .chain(c.sensor.bands().filter(|_| matches!(a, crate::film::Aov::Stderr | crate::film::Aov::Albedo)).into_iter().flat_map(|b| {
+                        (0..b.count).map(move |k| format!("{}.{}", a.name(), crate::film::spectral_channel_name(b.center(k))))
                     }))
                     .collect::<Vec<_>>(),
                 "type": if a.is_id() { "uint32" } else { "float32" },
