@@ -490,3 +490,129 @@ fn frames_that_keep_their_geometry_build_it_once_and_match_fresh_builds() {
         );
     }
 }
+
+/// smoke.ron with `seed` and `sensor: <variation>` (NIKON, CIE: those sensor files).
+fn sensor_config(dir: &Path, seed: u64, variation: &str) -> PathBuf {
+    let s = root().join("configs/sensors");
+    let v = variation
+        .replace("NIKON", &format!("{:?}", s.join("nikon_d810.ron")))
+        .replace("CIE", &format!("{:?}", s.join("cie1931.ron")));
+    config(dir, |t| {
+        t.replace("seed: 1,", &format!("seed: {seed},\n    sensor: {v},"))
+    })
+}
+
+/// A sensor from a list per frame: each frame's EXR has its own sensor's channels (camera.R and
+/// corrected.R only for the camera sensor), its JSON names the file and exposure, and a
+/// frame rendered alone equals the full run byte for byte.
+#[test]
+fn frames_take_their_sensor_from_the_list_and_render_alone_identically() {
+    let dir = workdir("sensor");
+    let cfg = sensor_config(&dir, 2, "(files: [CIE, NIKON], exposure: (-1, 1))");
+    let out = dir.join("full");
+    ok(&dataset(&cfg, &out, &[]));
+    let mut seen = [false; 2];
+    for i in 0..8 {
+        let stem = out.join(format!("frames/{i:06}"));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(stem.with_extension("json")).unwrap())
+                .unwrap();
+        let s = &json["frame"]["sensor"];
+        let file = s["file"].as_str().unwrap();
+        let e = s["exposure"].as_f64().unwrap();
+        assert!((-1.0..=1.0).contains(&e), "frame {i}: exposure {e}");
+        let px = exr_pixels(&stem.with_extension("exr"));
+        let camera = file.ends_with("nikon_d810.ron");
+        assert!(camera || file.ends_with("cie1931.ron"), "{file}");
+        seen[camera as usize] = true;
+        assert_eq!(px.contains_key("camera.R"), camera, "frame {i} ({file})");
+        assert_eq!(px.contains_key("corrected.R"), camera, "frame {i} ({file})");
+        assert!(
+            px.contains_key("R") && px.contains_key("X"),
+            "frame {i}: both write sRGB, XYZ"
+        );
+    }
+    assert_eq!(
+        seen,
+        [true, true],
+        "seed 2 draws both sensors in 8 frames (seed 1 draws CIE alone: p = 1/128)"
+    );
+    let full = frames(&out);
+    let one = dir.join("one");
+    ok(&dataset(
+        &cfg,
+        &one,
+        &["--frames", "3..5", "--threads", "1"],
+    ));
+    let got = frames(&one);
+    assert_eq!(got.len(), 2 * 3);
+    for (name, bytes) in got {
+        assert!(full[&name] == bytes, "{name} differs from the full run");
+    }
+}
+
+/// Exposure e multiplies every sensor channel by 2^e: the same frames with `exposure: (e, e)`
+/// and without the variation draw the same scene and render seed, so each channel's ratio is
+/// 2^e up to the rounding of one f32 multiply (relative 2⁻²³ on the value and the factor; the
+/// tolerance 1e-6 is ~4 of those); the AOV channels stay as they were.
+#[test]
+fn exposure_scales_the_sensor_channels_by_two_to_the_stops() {
+    let base = full_run();
+    let dir = workdir("exposure");
+    let e = 1.5f64;
+    let cfg = sensor_config(&dir, 1, &format!("(exposure: ({e}, {e}))"));
+    let out = dir.join("out");
+    ok(&dataset(&cfg, &out, &["--frames", "0..2"]));
+    let k = 2f64.powf(e);
+    for i in 0..2 {
+        let stem = format!("frames/{i:06}.exr");
+        let a = exr_pixels(&base.join(&stem));
+        let b = exr_pixels(&out.join(&stem));
+        assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+        let mut checked = 0;
+        for (name, va) in &a {
+            let vb = &b[name];
+            // Colour and spectral channels are the sensor's; the rest are AOVs.
+            let sensor =
+                ["R", "G", "B", "X", "Y", "Z"].contains(&name.as_str()) || name.starts_with("S0.");
+            for (x, y) in va.iter().zip(vb) {
+                let want = if sensor { *x as f64 * k } else { *x as f64 };
+                assert!(
+                    (*y as f64 - want).abs() <= 1e-6 * want.abs(),
+                    "frame {i} {name}: {y} vs {want}"
+                );
+            }
+            checked += sensor as usize;
+        }
+        assert!(checked >= 6, "frame {i}: sensor channels {:?}", a.keys());
+    }
+}
+
+#[test]
+fn bad_sensor_variations_are_refused_before_any_frame_renders() {
+    let dir = workdir("badsensor");
+    let cases: [(&str, &str, &[&str]); 3] = [
+        (
+            "missing file",
+            "(files: [CIE, \"nope.ron\"])",
+            &[
+                "sensor.files[1]",
+                "nope.ron",
+                "does not exist",
+                "relative to the dataset config",
+            ],
+        ),
+        (
+            "inverted exposure",
+            "(exposure: (1, -1))",
+            &["sensor.exposure", "inverted", "(-1, 1)"],
+        ),
+        ("empty list", "(files: [])", &["sensor.files", "empty"]),
+    ];
+    for (name, v, needles) in cases {
+        let cfg = sensor_config(&dir, 1, v);
+        let out = dir.join(name.replace(' ', "_"));
+        refused(&dataset(&cfg, &out, &[]), needles);
+        assert!(!out.exists(), "{name}: the output folder was made");
+    }
+}

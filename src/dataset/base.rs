@@ -159,6 +159,34 @@ impl Base {
         Ok(())
     }
 
+    /// The sensor variation: every file there and a sensor file, the exposure a finite range.
+    fn check_sensor(&self, v: &super::config::SensorVariation) -> Result<(), InputError> {
+        if let Some(files) = &v.files {
+            if files.is_empty() {
+                return Err(self
+                    .err("sensor.files", "the list of sensor files is empty")
+                    .hint("list at least one sensor file (e.g. \"../sensors/cie1931.ron\"), or leave `files` out to keep the scene's sensor"));
+            }
+            let dir = self.file.parent().unwrap_or(Path::new("."));
+            for (i, f) in files.iter().enumerate() {
+                let p = dir.join(f);
+                if !p.is_file() {
+                    return Err(self
+                        .err(
+                            &format!("sensor.files[{i}]"),
+                            format!("`{}` does not exist", p.display()),
+                        )
+                        .hint("paths are relative to the dataset config (configs/sensors/ holds presets)"));
+                }
+                crate::sensor::setup::read_file(&p)?;
+            }
+        }
+        if let Some(e) = v.exposure {
+            self.range("sensor.exposure", e, -64.0, 64.0, "exposure in stops")?;
+        }
+        Ok(())
+    }
+
     fn check(&self) -> Result<(), InputError> {
         let c = &self.config;
         if c.frames == 0 {
@@ -270,6 +298,9 @@ impl Base {
                         .hint("paths are relative to the dataset config"));
                 }
             }
+        }
+        if let Some(v) = &c.sensor {
+            self.check_sensor(v)?;
         }
         for (i, m) in c.materials.iter().enumerate() {
             let f = format!("materials[{i}]");

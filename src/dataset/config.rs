@@ -14,6 +14,7 @@
 //!     lights: [(target: "lamp", intensity: (5, 20), temperature: (2700, 6500))],
 //!     materials: [(target: "paint", reflectance: Library("colorchecker"), roughness: (0.05, 0.4))],
 //!     swaps: [(shape: "mug", materials: ["paint", "glass"])],
+//!     sensor: (files: ["../sensors/nikon_d810.ron", "../sensors/cie1931.ron"], exposure: (-1, 1)),
 //!     objects: (
 //!         subsets: [(shapes: ["mug", "ball", "box"], shown: (1, 3))],
 //!         place: (support: "table", shapes: ["mug", "ball", "box"], yaw: (0, 360), scale: (0.8, 1.2)),
@@ -55,6 +56,23 @@ pub struct DatasetConfig {
     pub swaps: Vec<MaterialSwap>,
     #[serde(default)]
     pub objects: ObjectVariation,
+    /// The sensor chosen from a list, and an exposure in stops.
+    #[serde(default)]
+    pub sensor: Option<SensorVariation>,
+}
+
+/// `sensor: (files: ["../sensors/nikon_d810.ron", "../sensors/cie1931.ron"], exposure: (-1, 1))`:
+/// each frame's sensor is a file from `files` (relative to the dataset config; sensor files as
+/// `configs/sensors/` holds, replacing the scene's `sensor`/`outputs`), uniformly; left out, the
+/// scene's sensor stays. `exposure` is a uniform number of stops e: every channel the sensor
+/// writes (not the AOVs) is scaled by 2^e after rendering, as if every light were 2^e as bright.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorVariation {
+    #[serde(default)]
+    pub files: Option<Vec<String>>,
+    #[serde(default)]
+    pub exposure: Option<Range>,
 }
 
 /// `outputs: (preview: true, exposure: 0, spp: 16, resolution: (128, 96))`: what each frame writes besides its EXR and

@@ -100,7 +100,7 @@ pub struct FrameResult {
 /// Renders `scene` (its relative paths relative to `scene_file`; its geometry from `cache` when
 /// unchanged) in the current rayon pool and
 /// writes `<stem>.exr`, `<stem>.json` (`params`) and, with `preview = Some(exposure)`,
-/// `<stem>.png`, each atomically; the manifest line the caller appends afterwards is what marks
+/// `<stem>.png`, each atomically, the sensor's channels scaled by `exposure_scale`; the manifest line the caller appends afterwards is what marks
 /// the frame complete.
 pub fn render_frame(
     cache: &mut GeometryCache,
@@ -109,6 +109,7 @@ pub fn render_frame(
     stem: &Path,
     params: &Value,
     preview: Option<f32>,
+    exposure_scale: f32,
 ) -> Result<FrameResult, Error> {
     let t = Instant::now();
     let job = cache.job(scene, scene_file)?;
@@ -116,6 +117,13 @@ pub fn render_frame(
     let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
     let (mut film, stats, se) =
         integrator::render_film(&job.scene, s, &job.channels, stderr, &|_| {});
+    // The sensor variation's exposure: before the AOVs join, the film holds the sensor's
+    // channels alone (one multiply per pixel and channel, none per sample).
+    if exposure_scale != 1.0 {
+        for c in &mut film.channels {
+            c.data.iter_mut().for_each(|v| *v *= exposure_scale);
+        }
+    }
     // The scene's AOV layers, and the pixel-centre hits the sidecar's boxes come from.
     let hits = integrator::aov::add_layers(job, &mut film, Some(&se));
     let exr = stem.with_extension("exr");

@@ -6,6 +6,7 @@ use super::config::{LookAtVariation, ReflectanceSource};
 use super::library;
 use super::vary::{shell_point, Rng, Stream};
 use crate::camera::Camera;
+use crate::config::sensor::{SensorField, SensorFile};
 use crate::config::{SceneConfig, SpectrumConfig, TransformOp};
 use crate::error::InputError;
 use crate::spectrum::Curve;
@@ -22,6 +23,8 @@ pub struct FramePlan {
     pub scene: SceneConfig,
     /// What was drawn, for the frame's JSON.
     pub params: Value,
+    /// The factor 2^e of the sensor variation's exposure e on the sensor's channels (1: none).
+    pub exposure_scale: f32,
 }
 
 /// Plans frame `i` of `base`.
@@ -256,6 +259,23 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         params.insert("swaps".into(), Value::Array(swaps));
     }
 
+    let mut exposure_scale = 1.0;
+    if let Some(v) = &c.sensor {
+        let mut r = Rng::new(c.seed, i, Stream::Sensor);
+        let file = v.files.as_ref().map(|f| &f[r.index(f.len())]);
+        if let Some(f) = file {
+            let dir = base.file.parent().unwrap_or(Path::new("."));
+            scene.sensor = Some(SensorField::File(SensorFile::File(absolute(&dir.join(f)))));
+            // The chosen sensor replaces the scene's (`outputs` is the older way to say one).
+            scene.outputs = Default::default();
+        }
+        let stops = v.exposure.map(|x| r.range(x));
+        if let Some(e) = stops {
+            exposure_scale = e.exp2();
+        }
+        params.insert("sensor".into(), json!({"file": file, "exposure": stops}));
+    }
+
     // Hidden shapes go last: every index above refers to the base scene's shapes.
     let mut k = 0;
     scene.shapes.retain(|_| {
@@ -267,6 +287,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         seed,
         scene,
         params: Value::Object(params),
+        exposure_scale,
     })
 }
 

@@ -100,7 +100,12 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
 
     if let Some(i) = opts.export_frame {
         let p = plan::plan(&base, i)?;
-        let text = super::export::scene_ron(p.scene, &scene_dir).map_err(Error::Other)?;
+        let scale = p.exposure_scale;
+        let mut text = super::export::scene_ron(p.scene, &scene_dir).map_err(Error::Other)?;
+        if scale != 1.0 {
+            // A scene has no exposure of its own: say what `prism render` leaves out.
+            text = format!("// the dataset's sensor exposure scales this frame's sensor channels by {scale:e}\n{text}");
+        }
         let path = out.stem(i).with_extension("ron");
         crate::output::write_atomic(&path, |tmp| {
             std::fs::write(
@@ -164,6 +169,7 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
                     &out.stem(i),
                     &p.params,
                     preview,
+                    p.exposure_scale,
                 )
             })
             .and_then(|r| {

@@ -38,6 +38,7 @@ pub enum Stream {
     Envmap,
     Material(usize),
     Swap(usize),
+    Sensor,
 }
 
 impl Stream {
@@ -51,6 +52,7 @@ impl Stream {
             Stream::Envmap => (5, 0),
             Stream::Material(i) => (6, i),
             Stream::Swap(i) => (7, i),
+            Stream::Sensor => (8, 0),
         };
         (kind << 32) | i as u64
     }
