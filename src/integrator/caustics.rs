@@ -508,3 +508,7 @@ impl<'a> Caustics<'a> {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "caustics_tests.rs"]
+mod tests;

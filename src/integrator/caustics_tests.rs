@@ -1,0 +1,336 @@
+//! Chi-square goodness-of-fit tests of the light tracer's emission samplers: the histogram of
+//! many sampled light-path origins (directional light: points on the disks facing the light) or
+//! directions (environment map: its bright cells) against the density the sampler reports,
+//! integrated numerically over each histogram cell. Cells expecting < 5 samples are pooled.
+//!
+//! Tolerance: each test passes if its p-value exceeds α = 1e-4 / TESTS (Bonferroni), and the
+//! density the sampler reports at each sample must match the density the histogram is tested
+//! against (relative 1e-3, f32 rounding), so a warp error fails the χ² and a pdf error the
+//! match. Seeds are fixed, so a pass is reproducible.
+
+use super::*;
+use crate::emitter::EnvMap;
+use crate::math::rng::Pcg32;
+use crate::texture::RgbImage;
+use glam::Mat3;
+use std::f64::consts::PI;
+
+const TESTS: usize = 2;
+const ALPHA: f64 = 1e-4 / TESTS as f64;
+
+fn ln_gamma(x: f64) -> f64 {
+    const G: f64 = 7.0;
+    const C: [f64; 9] = [
+        0.999_999_999_999_809_9,
+        676.520_368_121_885_1,
+        -1_259.139_216_722_402_8,
+        771.323_428_777_653_1,
+        -176.615_029_162_140_6,
+        12.507_343_278_686_905,
+        -0.138_571_095_265_720_12,
+        9.984_369_578_019_572e-6,
+        1.505_632_735_149_311_6e-7,
+    ];
+    if x < 0.5 {
+        return (std::f64::consts::PI / (std::f64::consts::PI * x).sin()).ln() - ln_gamma(1.0 - x);
+    }
+    let x = x - 1.0;
+    let mut a = C[0];
+    let t = x + G + 0.5;
+    for (i, c) in C.iter().enumerate().skip(1) {
+        a += c / (x + i as f64);
+    }
+    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
+}
+
+/// Regularised upper incomplete gamma Q(a, x) = Γ(a, x) / Γ(a): series for x < a + 1, Lentz's
+/// continued fraction otherwise (both converge fast in their regions).
+fn gamma_q(a: f64, x: f64) -> f64 {
+    if x <= 0.0 {
+        return 1.0;
+    }
+    let ln_pre = -x + a * x.ln() - ln_gamma(a);
+    if x < a + 1.0 {
+        let (mut sum, mut term, mut ap) = (1.0 / a, 1.0 / a, a);
+        for _ in 0..10_000 {
+            ap += 1.0;
+            term *= x / ap;
+            sum += term;
+            if term.abs() < sum.abs() * 1e-15 {
+                break;
+            }
+        }
+        1.0 - sum * ln_pre.exp()
+    } else {
+        let tiny = 1e-300;
+        let mut b = x + 1.0 - a;
+        let mut c = 1.0 / tiny;
+        let mut d = 1.0 / b;
+        let mut h = d;
+        for i in 1..10_000 {
+            let an = -(i as f64) * (i as f64 - a);
+            b += 2.0;
+            d = an * d + b;
+            if d.abs() < tiny {
+                d = tiny;
+            }
+            c = b + an / c;
+            if c.abs() < tiny {
+                c = tiny;
+            }
+            d = 1.0 / d;
+            let delta = d * c;
+            h *= delta;
+            if (delta - 1.0).abs() < 1e-15 {
+                break;
+            }
+        }
+        ln_pre.exp() * h
+    }
+}
+
+/// P(χ²_dof ≥ stat).
+fn chi2_sf(stat: f64, dof: f64) -> f64 {
+    gamma_q(0.5 * dof, 0.5 * stat)
+}
+
+/// Pearson's test of observed counts against expected counts. Cells expecting fewer than 5
+/// samples (zero included) are pooled into one cell (the χ² approximation needs ≥ 5 per cell).
+/// Returns (p-value, statistic, degrees of freedom).
+fn chi2_test(observed: &[f64], expected: &[f64]) -> (f64, f64, usize) {
+    assert_eq!(observed.len(), expected.len());
+    let mut stat = 0.0;
+    let mut cells = 0usize;
+    let (mut pool_o, mut pool_e) = (0.0, 0.0);
+    for (&o, &e) in observed.iter().zip(expected) {
+        if e < 5.0 {
+            pool_o += o;
+            pool_e += e;
+        } else {
+            stat += (o - e) * (o - e) / e;
+            cells += 1;
+        }
+    }
+    if pool_e > 0.0 {
+        stat += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+        cells += 1;
+    } else if pool_o > 0.0 {
+        return (0.0, f64::INFINITY, 0);
+    }
+    let dof = cells.saturating_sub(1).max(1);
+    (chi2_sf(stat, dof as f64), stat, dof)
+}
+
+fn assert_pass(name: &str, (p, stat, dof): (f64, f64, usize)) {
+    eprintln!("{name}: p = {p:.3e}, chi2 {stat:.1}, dof {dof}");
+    assert!(
+        p > ALPHA,
+        "{name}: chi-square {stat:.1} with {dof} dof, p = {p:.3e} < α = {ALPHA:.2e}"
+    );
+}
+
+/// A `Caustics` with no sources (the emission samplers take theirs as arguments) and `targets`
+/// (center, radius).
+fn caustics(targets: &[(Vec3, f32)]) -> Caustics<'static> {
+    let areas: Vec<f32> = targets
+        .iter()
+        .map(|t| std::f32::consts::PI * t.1 * t.1)
+        .collect();
+    Caustics {
+        sources: Vec::new(),
+        targets: targets
+            .iter()
+            .map(|&(center, radius)| Target { center, radius })
+            .collect(),
+        by_area: Distribution1D::new(&areas),
+        total_area: areas.iter().sum(),
+        center: Vec3::ZERO,
+        radius: 10.0,
+        settings: CausticSettings::default(),
+    }
+}
+
+/// Directional light: light-path origins, projected on the plane facing the light, must be
+/// distributed as the union of the targets' disks weighted by how many disks cover each point
+/// (Σ of uniform densities on each disk by its area share) = covering / total area, which is
+/// also the density the sampler reports through its throughput total_area / covering.
+#[test]
+fn directional_light_origins_match_their_density() {
+    // Two overlapping targets (their disks overlap seen from the light) and one apart.
+    let targets = [
+        (Vec3::new(0.0, 0.0, 0.0), 1.0),
+        (Vec3::new(0.8, 0.3, 0.2), 0.6),
+        (Vec3::new(-2.5, 0.0, 0.5), 0.3),
+    ];
+    let c = caustics(&targets);
+    let dir = Vec3::new(0.3, -1.0, 0.2).normalize();
+    let frame = Frame::from_normal(dir);
+    let disks: Vec<(f64, f64, f64)> = targets
+        .iter()
+        .map(|&(p, r)| {
+            let l = frame.to_local(p).as_dvec3();
+            (l.x, l.y, r as f64)
+        })
+        .collect();
+    let total: f64 = disks.iter().map(|d| PI * d.2 * d.2).sum();
+    let density = |x: f64, y: f64| {
+        disks
+            .iter()
+            .filter(|d| (x - d.0).powi(2) + (y - d.1).powi(2) <= d.2 * d.2)
+            .count() as f64
+            / total
+    };
+    let (x0, x1) = disks.iter().fold((f64::MAX, f64::MIN), |(lo, hi), d| {
+        (lo.min(d.0 - d.2), hi.max(d.0 + d.2))
+    });
+    let (y0, y1) = disks.iter().fold((f64::MAX, f64::MIN), |(lo, hi), d| {
+        (lo.min(d.1 - d.2), hi.max(d.1 + d.2))
+    });
+    const NB: usize = 40;
+    const SUB: usize = 32;
+    let n = 400_000;
+    let (dx, dy) = ((x1 - x0) / NB as f64, (y1 - y0) / NB as f64);
+    let mut observed = vec![0.0; NB * NB];
+    let mut rng = Pcg32::new(0x5eed, 3);
+    let mut u2 = || Vec2::new(rng.next_f32(), rng.next_f32());
+    let mut worst = 0.0f64;
+    for _ in 0..n {
+        let (ray, beta) = c
+            .emit_from_infinity::<1>(dir, Spectrum([1.0]), 1.0, &mut u2)
+            .expect("a light path");
+        assert!((ray.d - dir).length() < 1e-6);
+        let l = frame.to_local(ray.o).as_dvec3();
+        // The reported density (throughput = 1 / density for unit radiance and pdf_dir = 1);
+        // points within f32 rounding of a disk's edge may count one disk more or fewer.
+        let (reported, expected) = (1.0 / beta[0] as f64, density(l.x, l.y));
+        let edge = disks
+            .iter()
+            .any(|d| (((l.x - d.0).powi(2) + (l.y - d.1).powi(2)).sqrt() - d.2).abs() < 1e-4);
+        if !edge {
+            worst = worst.max((reported / expected - 1.0).abs());
+        }
+        let ix = (((l.x - x0) / dx) as usize).min(NB - 1);
+        let iy = (((l.y - y0) / dy) as usize).min(NB - 1);
+        observed[iy * NB + ix] += 1.0;
+    }
+    assert!(
+        worst < 1e-3,
+        "reported density off the union-of-disks density by {worst:.3e} (relative)"
+    );
+    let mut expected = vec![0.0; NB * NB];
+    for iy in 0..NB {
+        for ix in 0..NB {
+            let mut s = 0.0;
+            for sy in 0..SUB {
+                for sx in 0..SUB {
+                    let x = x0 + (ix as f64 + (sx as f64 + 0.5) / SUB as f64) * dx;
+                    let y = y0 + (iy as f64 + (sy as f64 + 0.5) / SUB as f64) * dy;
+                    s += density(x, y);
+                }
+            }
+            expected[iy * NB + ix] = n as f64 * s * dx * dy / (SUB * SUB) as f64;
+        }
+    }
+    assert_pass("directional disks", chi2_test(&observed, &expected));
+}
+
+/// Environment map: directions from its bright cells (a 3×3-pixel sun on a dim sky) must be
+/// distributed as the map's own sampling density `EnvMap::pdf` restricted to those cells and
+/// renormalised; the sampler's reported pdf must equal that density. Bins in (1 − cos θ, φ)
+/// around the sun, over the cap that holds every bright cell.
+#[test]
+fn environment_bright_cells_match_their_density() {
+    let (w, h) = (32, 16);
+    let img = RgbImage {
+        width: w,
+        height: h,
+        pixels: (0..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .map(|(i, j): (usize, usize)| {
+                let sun = (9..12).contains(&i) && (4..7).contains(&j);
+                [if sun { 1000.0 } else { 1.0 }; 3]
+            })
+            .collect(),
+        source: None,
+    };
+    let map = EnvMap::new(&img, 1.0, Mat3::IDENTITY);
+    let cells = map.bright_cells(10.0).expect("bright cells");
+    let bright = |d: Vec3| cells.contains(map.cell(d));
+    let dense = |d: Vec3| if bright(d) { map.pdf(d) as f64 } else { 0.0 };
+    // The sun's axis (pixel centres: u = (i + 0.5) / w, v = (j + 0.5) / h, the map's layout
+    // with local = (sin φ sin θ, cos θ, −cos φ sin θ)).
+    let (th, ph) = (PI * 5.5 / h as f64, 2.0 * PI * 10.5 / w as f64);
+    let axis = Vec3::new(
+        (ph.sin() * th.sin()) as f32,
+        th.cos() as f32,
+        (-ph.cos() * th.sin()) as f32,
+    );
+    let frame = Frame::from_normal(axis);
+    let dir = |omc: f64, phi: f64| {
+        let ct = 1.0 - omc;
+        let st = (1.0 - ct * ct).max(0.0).sqrt();
+        frame.to_world(Vec3::new(
+            (st * phi.cos()) as f32,
+            (st * phi.sin()) as f32,
+            ct as f32,
+        ))
+    };
+    // The cap holding every bright cell, found on a fine grid over the whole sphere.
+    let mut span = 0.0f64;
+    for a in 0..800 {
+        for b in 0..800 {
+            let omc = 2.0 * (a as f64 + 0.5) / 800.0;
+            if omc > span && bright(dir(omc, 2.0 * PI * (b as f64 + 0.5) / 800.0)) {
+                span = omc;
+            }
+        }
+    }
+    let span = (span * 1.1).min(2.0);
+    const NT: usize = 24;
+    const NP: usize = 48;
+    const SUB: usize = 12;
+    let n = 400_000;
+    let (dt, dp) = (span / NT as f64, 2.0 * PI / NP as f64);
+    let mut mass = vec![0.0; NT * NP];
+    for it in 0..NT {
+        for ip in 0..NP {
+            let mut s = 0.0;
+            for a in 0..SUB {
+                for b in 0..SUB {
+                    let omc = (it as f64 + (a as f64 + 0.5) / SUB as f64) * dt;
+                    let phi = (ip as f64 + (b as f64 + 0.5) / SUB as f64) * dp;
+                    s += dense(dir(omc, phi));
+                }
+            }
+            mass[it * NP + ip] = s * dt * dp / (SUB * SUB) as f64;
+        }
+    }
+    // The bright cells' share of the map's sampling probability.
+    let p_bright: f64 = mass.iter().sum();
+    let mut observed = vec![0.0; NT * NP];
+    let mut rng = Pcg32::new(0x5eed, 5);
+    let mut ratios = (f64::MAX, f64::MIN);
+    for _ in 0..n {
+        let u = Vec2::new(rng.next_f32(), rng.next_f32());
+        let Some((d, pdf)) = map.sample_bright(&cells, u) else {
+            continue;
+        };
+        let r = pdf as f64 * p_bright / map.pdf(d) as f64;
+        ratios = (ratios.0.min(r), ratios.1.max(r));
+        let l = frame.to_local(d).as_dvec3();
+        let omc = (l.x * l.x + l.y * l.y) / (1.0 + l.z);
+        assert!(omc <= span, "a sample outside the bright cells' cap");
+        let it = ((omc / dt) as usize).min(NT - 1);
+        let ip = ((l.y.atan2(l.x).rem_euclid(2.0 * PI) / dp) as usize).min(NP - 1);
+        observed[it * NP + ip] += 1.0;
+    }
+    // Midpoint integration of a piecewise-constant density: its total is good to ~0.5%.
+    assert!(
+        ratios.0 > 0.995 && ratios.1 < 1.005,
+        "reported pdf / (EnvMap::pdf / P(bright)) in [{:.4}, {:.4}], not 1",
+        ratios.0,
+        ratios.1
+    );
+    let expected: Vec<f64> = mass.iter().map(|m| m / p_bright * n as f64).collect();
+    assert_pass("environment bright cells", chi2_test(&observed, &expected));
+}
