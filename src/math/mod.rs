@@ -1,5 +1,6 @@
 //! Small math pieces the renderer shares: frames, sampling warps, random numbers, transforms,
 //! and floating-point error bounds.
+pub mod chi2;
 pub mod distribution;
 pub mod float;
 pub mod frame;
