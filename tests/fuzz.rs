@@ -34,6 +34,7 @@ fn oracle_flags_panics_hangs_signals_and_wrong_exit_codes() {
     std::fs::create_dir_all(&dir).unwrap();
     let limits = engine::Limits {
         timeout: Duration::from_secs(1),
+        cpu_seconds: 1,
         ..LIMITS
     };
     let scene = dir.join("scene.ron");
@@ -45,6 +46,9 @@ fn oracle_flags_panics_hangs_signals_and_wrong_exit_codes() {
         ),
         ("echo \"thread 'main' panicked at x\" >&2; exit 2", "panic"),
         ("sleep 30", "hang"),
+        // Busy: ended by the CPU-time bound (SIGXCPU); checked below that the wall bound,
+        // raised for it, did not fire instead.
+        ("while :; do :; done", "hang"),
         ("kill -SEGV $$", "signal"),
         ("exit 1", "wrong-exit"),
         ("exit 2", "ok"),
@@ -55,8 +59,20 @@ fn oracle_flags_panics_hangs_signals_and_wrong_exit_codes() {
         std::fs::write(&fake, format!("#!/bin/sh\n{body}\n")).unwrap();
         use std::os::unix::fs::PermissionsExt;
         std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let busy = body.starts_with("while");
+        let limits = engine::Limits {
+            timeout: Duration::from_secs(if busy { 60 } else { 1 }),
+            ..limits
+        };
+        let start = std::time::Instant::now();
         let (v, _) = engine::run_binary(&fake, &scene, &dir, &limits);
         assert_eq!(v.label(), *want, "`{body}` gave {v:?}");
+        // 1 s of CPU: well under the 60 s wall bound even on a loaded machine.
+        assert!(
+            !busy || start.elapsed() < Duration::from_secs(50),
+            "the busy loop ran {:?}: the CPU-time bound did not end it",
+            start.elapsed()
+        );
     }
 }
 

@@ -764,7 +764,13 @@ pub fn make_case(seeds: &Seeds, seed: u64, index: u64) -> Case {
 /// Bounds on one case.
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
+    /// Wall-clock bound: catches a prism blocked without using the CPU (a deadlock, a read
+    /// that never ends). Generous, since a loaded machine stretches wall time.
     pub timeout: Duration,
+    /// CPU-time bound of a spawned prism (`prlimit --cpu`, SIGXCPU past it): catches a busy
+    /// loop whatever the machine's load (a 20 s wall bound flagged an 8×32768 film at 1.9 s
+    /// of CPU as a hang under a load average of 20).
+    pub cpu_seconds: u64,
     /// Address-space limit of a spawned prism (`prlimit --as`), bytes.
     pub address_space: u64,
     /// `--max-memory` given to prism.
@@ -772,7 +778,8 @@ pub struct Limits {
 }
 
 pub const LIMITS: Limits = Limits {
-    timeout: Duration::from_secs(20),
+    timeout: Duration::from_secs(120),
+    cpu_seconds: 20,
     address_space: 4 << 30,
     max_memory: "1GiB",
 };
@@ -816,6 +823,12 @@ fn args(scene: &Path, dir: &Path, limits: &Limits) -> Vec<String> {
 pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Verdict, String) {
     let mut child = Command::new("prlimit")
         .arg(format!("--as={}", limits.address_space))
+        // Soft limit first: SIGXCPU (below), a second later the hard limit's SIGKILL.
+        .arg(format!(
+            "--cpu={}:{}",
+            limits.cpu_seconds,
+            limits.cpu_seconds + 1
+        ))
         .arg("--")
         .arg(bin)
         .args(args(scene, dir, limits))
@@ -853,7 +866,10 @@ pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Ver
             Some(c) => Verdict::WrongExit(c, tail(&err)),
             None => {
                 use std::os::unix::process::ExitStatusExt;
-                Verdict::Signal(format!("signal {:?}: {}", st.signal(), tail(&err)))
+                match st.signal() {
+                    Some(libc::SIGXCPU) => Verdict::Hang,
+                    s => Verdict::Signal(format!("signal {s:?}: {}", tail(&err))),
+                }
             }
         },
     };
