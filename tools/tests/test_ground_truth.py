@@ -349,3 +349,19 @@ def test_cube_corners_on_their_pixels(render, camera):
     far = np.abs(sd) > 0.01
     assert np.array_equal((ids == 1)[far], (sd > 0)[far]), np.argwhere(far & ((ids == 1) != (sd > 0)))
     assert ((np.abs(sd) > 0.01) & (np.abs(sd) < 0.05)).sum() >= 5
+
+
+def test_boxes_only_when_traced_or_asked(render):
+    """A render without geometry or id AOVs traces no pixel-centre rays, so its sidecar has no
+    boxes (never a stale or guessed one); `--boxes` (or `boxes: true`) adds them, equal to the
+    boxes of a render that writes the instance layer; `alpha` and `stderr` alone need no hits."""
+    text = scene(f"fov: 45, {LOOK}", aovs="")
+    with_ids = outputs.read(render(scene(f"fov: 45, {LOOK}", aovs='"instance"'))).sidecar["objects"]
+    for args in [(), ("--aovs", "alpha,stderr")]:
+        objs = outputs.read(render(text, *args)).sidecar["objects"]
+        assert all("bbox" not in o and "visible_pixels" not in o for o in objs)
+        assert [o["name"] for o in objs] == [o["name"] for o in with_ids]
+    for out in [render(text, "--boxes"), render(text.replace("aovs: [],", "aovs: [], boxes: true,"))]:
+        objs = outputs.read(out).sidecar["objects"]
+        assert [(o["bbox"], o["visible_pixels"]) for o in objs] == [(o["bbox"], o["visible_pixels"]) for o in with_ids]
+    assert sum(o["visible_pixels"] > 0 for o in with_ids) == 4
