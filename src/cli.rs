@@ -102,6 +102,10 @@ pub struct RenderArgs {
     /// (`--aovs ""` for none).
     #[arg(long, value_delimiter = ',')]
     pub aovs: Option<Vec<String>>,
+    /// Write the sidecar's per-object 2D boxes and visible pixel counts even without a geometry
+    /// or id AOV (one extra ray per pixel; docs/sidecar.md).
+    #[arg(long)]
+    pub boxes: bool,
     /// A sensor file (RON, configs/sensors/*.ron) replacing the scene's `sensor`/`outputs`.
     #[arg(long)]
     pub sensor: Option<PathBuf>,
@@ -224,6 +228,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         if let Some(a) = &args.aovs {
             cfg.aovs = a.iter().filter(|n| !n.is_empty()).cloned().collect();
         }
+        cfg.boxes |= args.boxes;
         match args.caustics {
             Some(Switch::On) => {
                 cfg.integrator.caustics = Some(cfg.integrator.caustics.unwrap_or_default())
@@ -279,7 +284,15 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     let extra = metadata(args, &job, &stats, render_s);
     output::exr::write(&film, &out, &extra)?;
     let sidecar = output::sidecar::path_for(&out);
-    output::sidecar::write(&sidecar, &job, &args.scene, &out, &hits, &stats, render_s)?;
+    output::sidecar::write(
+        &sidecar,
+        &job,
+        &args.scene,
+        &out,
+        hits.as_deref(),
+        &stats,
+        render_s,
+    )?;
     if let Some(p) = &args.preview {
         output::png::write(&film, p, args.exposure)?;
     }

@@ -67,6 +67,10 @@ pub struct SceneConfig {
     /// AOV layers beside the colour channels: `aovs: ["depth", "normal", "instance"]`
     /// (`film::aov`; scenes/README.md lists them).
     pub aovs: Vec<String>,
+    /// The sidecar's per-object 2D boxes and visible pixel counts even when no AOV layer traces
+    /// the pixel-centre rays they come from: `boxes: true` (`prism render --boxes`). Default
+    /// false: they are written whenever a geometry or id AOV runs, and otherwise cost nothing.
+    pub boxes: bool,
 }
 
 /// `camera: (fov: 39.3077, fov_axis: Smaller, near_clip: 0.001, to_world: [LookAt(...)])`

@@ -124,7 +124,8 @@ pub fn render_frame(
             c.data.iter_mut().for_each(|v| *v *= exposure_scale);
         }
     }
-    // The scene's AOV layers, and the pixel-centre hits the sidecar's boxes come from.
+    // The scene's AOV layers, and the pixel-centre hits the sidecar's boxes come from (when
+    // a layer or `boxes` asked for them).
     let hits = integrator::aov::add_layers(job, &mut film, Some(&se));
     let exr = stem.with_extension("exr");
     let extra = vec![
@@ -150,7 +151,7 @@ pub fn render_frame(
         job,
         scene_file,
         &exr,
-        &hits,
+        hits.as_deref(),
         &stats,
         t.elapsed().as_secs_f64(),
     );

@@ -1,7 +1,8 @@
 //! The AOV pass: one ray per pixel centre for the geometry and id layers, and, for `alpha`,
-//! the colour pass's own camera rays again (same sampler dimensions, so the same rays). It runs
-//! only when a render asks for AOVs or a sidecar, so a plain render's path tracing is the code
-//! it always was; conventions in `film::aov`.
+//! the colour pass's own camera rays again (same sampler dimensions, so the same rays). The
+//! colour pass is the same code with or without it; the pixel-centre rays are traced only when a
+//! layer needs them or the scene asks for the sidecar's boxes (`boxes: true`, `--boxes`), so a
+//! render without AOVs traces nothing more than its colour pass. Conventions in `film::aov`.
 
 use super::RenderSettings;
 use crate::camera::Camera;
@@ -11,17 +12,26 @@ use crate::scene::Scene;
 use glam::{DVec3, Vec2, Vec3};
 use rayon::prelude::*;
 
+/// Whether `aov` is made from the pixel-centre hits (`alpha` and `stderr` are not).
+pub fn uses_hits(aov: Aov) -> bool {
+    !matches!(aov, Aov::Alpha | Aov::Stderr)
+}
+
 /// Runs the AOV pass: adds the layers `job.aovs` asks for to `film` and returns the
-/// pixel-centre hits (the sidecar's boxes come from them, with or without AOV layers).
+/// pixel-centre hits the sidecar's boxes come from: `None` when neither a layer nor the
+/// scene's `boxes` needs them (then no ray is traced for them).
 /// `stderr`: the standard errors `render_film` returned (needed when `job.aovs` has `stderr`).
 pub fn add_layers(
     job: &crate::scene::Job,
     film: &mut crate::film::Film,
     stderr: Option<&[f32]>,
-) -> Vec<Option<Hit>> {
+) -> Option<Vec<Option<Hit>>> {
     let s = &job.settings;
-    let hits = first_hits(&job.scene, s.width, s.height);
-    let (floats, ids) = layers(&job.scene, s, &hits, &job.aovs, &job.objects.label_ids());
+    let hits = (job.config.boxes || job.aovs.iter().any(|&a| uses_hits(a)))
+        .then(|| first_hits(&job.scene, s.width, s.height));
+    let none = Vec::new();
+    let h = hits.as_deref().unwrap_or(&none);
+    let (floats, ids) = layers(&job.scene, s, h, &job.aovs, &job.objects.label_ids());
     film.channels.extend(floats);
     film.uint_channels.extend(ids);
     if let (true, Some(se)) = (job.aovs.contains(&Aov::Stderr), stderr) {
@@ -30,7 +40,7 @@ pub fn add_layers(
     if job.aovs.contains(&Aov::Albedo) {
         let bands = job.channels.sensor.bands();
         film.channels
-            .extend(super::albedo::layers(&job.scene, &hits, bands));
+            .extend(super::albedo::layers(&job.scene, h, bands));
     }
     hits
 }

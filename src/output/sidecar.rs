@@ -112,7 +112,7 @@ pub fn write(
     job: &Job,
     scene_file: &Path,
     exr: &Path,
-    hits: &[Option<Hit>],
+    hits: Option<&[Option<Hit>]>,
     stats: &RenderStats,
     seconds: f64,
 ) -> Result<(), Error> {
@@ -123,12 +123,14 @@ pub fn write(
     })
 }
 
-/// The sidecar's JSON (`prism dataset` adds the frame's sampled parameters to it).
+/// The sidecar's JSON (`prism dataset` adds the frame's sampled parameters to it). `hits`:
+/// the pixel-centre hits, when the render traced them; without them the objects have no
+/// `bbox` or `visible_pixels`.
 pub fn value(
     job: &Job,
     scene_file: &Path,
     exr: &Path,
-    hits: &[Option<Hit>],
+    hits: Option<&[Option<Hit>]>,
     stats: &RenderStats,
     seconds: f64,
 ) -> Value {
@@ -138,7 +140,7 @@ pub fn value(
     let n = job.objects.list.len();
     let mut boxes = vec![[u32::MAX, u32::MAX, 0, 0]; n];
     let mut pixels = vec![0u64; n];
-    for (i, hit) in hits.iter().enumerate() {
+    for (i, hit) in hits.unwrap_or_default().iter().enumerate() {
         if let Some(hit) = hit {
             let (x, y) = (i as u32 % w, i as u32 / w);
             let k = hit.shape as usize;
@@ -153,7 +155,7 @@ pub fn value(
         .iter()
         .enumerate()
         .map(|(k, o)| {
-            json!({
+            let mut v = json!({
                 "instance_id": o.instance_id,
                 "name": o.name,
                 "label": o.label,
@@ -162,9 +164,12 @@ pub fn value(
                 "material_id": o.material_id,
                 "to_world": rows4(&o.to_world.as_dmat4()),
                 "bounds": {"min": o.bounds.0.to_array(), "max": o.bounds.1.to_array()},
-                "bbox": (pixels[k] > 0).then_some(boxes[k]),
-                "visible_pixels": pixels[k],
-            })
+            });
+            if hits.is_some() {
+                v["bbox"] = json!((pixels[k] > 0).then_some(boxes[k]));
+                v["visible_pixels"] = json!(pixels[k]);
+            }
+            v
         })
         .collect();
     let (lo, hi) = s.wavelengths.range();

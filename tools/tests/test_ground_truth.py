@@ -1,7 +1,8 @@
 """The camera and the ground-truth layers against OpenCV (an independent implementation of the
 pinhole and its distortion model): every surface point the position layer shows, projected by
 cv2.projectPoints with the sidecar's K, dist, R and t, lands on its own pixel centre; known 3D
-points (sphere centres) land on pixels whose id and depth layers show that sphere;
+points (sphere centres, a tilted cube's corners) land on pixels whose id and depth layers show
+them (the cube's corners and outline to a fraction of a pixel);
 cv2.undistortPoints inverts the rendered distortion; the OpenGL pose agrees with OpenCV's;
 the sidecar's boxes are the id layer's; the thin lens blurs a point into its circle of confusion.
 """
@@ -216,3 +217,151 @@ def test_orthographic_camera_maps_points_linearly(render):
     assert np.abs(uv - pixel_grid(*hit.shape)[hit]).max() < 1e-3
     assert np.allclose(r.layer("depth")[hit], pc[:, 2], atol=1e-5)
     assert np.array_equal(r.layer("depth"), r.layer("distance"))
+
+
+# A cube ([-1, 1]³ in its own frame) scaled, tilted about two axes and moved: three faces and
+# seven corners in view (six on the silhouette, one inside it), the eighth behind the cube.
+CUBE_OPS = [("scale", 0.6), ("rotate", (1, 0, 0), 28.0), ("rotate", (0, 1, 0), -37.0), ("translate", (0.15, 0.1, 0.0))]
+CUBE_K = "intrinsics: Some((fx: 150, fy: 146, cx: 63.4, cy: 47.8))"
+
+
+def cube_scene(camera: str) -> str:
+    steps = []
+    for op in CUBE_OPS:
+        if op[0] == "scale":
+            steps.append(f"Scale(({op[1]}, {op[1]}, {op[1]}))")
+        elif op[0] == "rotate":
+            steps.append(f"Rotate(axis: {op[1]}, angle: {op[2]})")
+        else:
+            steps.append(f"Translate({op[1]})")
+    return f"""(
+    camera: ({camera}),
+    film: (width: 128, height: 96, filter: Box()),
+    sampler: (spp: 1),
+    outputs: (bands: 0),
+    shapes: [(shape: Cube, name: "cube", to_world: [{", ".join(steps)}])],
+    emitters: [Constant(radiance: Constant(1))],
+    aovs: ["position", "depth", "instance"],
+)"""
+
+
+def cube_to_world() -> np.ndarray:
+    """The cube's transform composed independently of prism (scipy's rotations; right-handed,
+    counter-clockwise about the axis, the list's first step acting first)."""
+    from scipy.spatial.transform import Rotation
+
+    m = np.eye(4)
+    for op in CUBE_OPS:
+        s = np.eye(4)
+        if op[0] == "scale":
+            s[:3, :3] *= op[1]
+        elif op[0] == "rotate":
+            ax = np.array(op[1], dtype=np.float64)
+            s[:3, :3] = Rotation.from_rotvec(np.radians(op[2]) * ax / np.linalg.norm(ax)).as_matrix()
+        else:
+            s[:3, 3] = op[1]
+        m = s @ m
+    return m
+
+
+def project(m: dict, pts: np.ndarray, dist: bool = True) -> np.ndarray:
+    d = m["dist"] if dist else np.zeros(5)
+    return cv2.projectPoints(np.asarray(pts, dtype=np.float64).reshape(-1, 3), m["rvec"], m["t"], m["K"], d)[0][:, 0, :]
+
+
+@pytest.mark.parametrize("camera", [f"{CUBE_K}, {LOOK}", f"{CUBE_K}, {DIST}, {LOOK}"])
+def test_cube_corners_on_their_pixels(render, camera):
+    """The eight corners of a tilted cube, projected by cv2.projectPoints with the sidecar's K,
+    dist, R, t, against the id, depth and position layers.
+
+    Visibility from the depth layer: a corner is seen when the surface at its pixel is not in
+    front of it (the hidden corner's pixel shows the cube's front, nearer by ~the cube's size).
+
+    Where the layers put each seen corner: on every face that meets at it, the position layer
+    gives, for each pixel centre near the corner, the point of that face (in the face's own 2D
+    coordinates) the pixel sees. Undistorted by cv2.undistortPoints, pixel and face point are
+    related by a plane homography exactly; fitted to the ≥ 10 pixels within 5 px of the corner
+    it carries the face point (0, 0), the corner, to the render's image of it, which must be
+    cv2's projection to 2e-3 px: positions are f32 (~1e-6 scene units here, ~1e-4 px) and the
+    fit extrapolates at most a few pixels from its data (measured: 3.2e-4 px at worst over the
+    11 faces, 5.8e-5 px with distortion).
+
+    The id layer's edges: the cube's outline is the image of the convex hull of its projected
+    corners (pinhole), each hull edge a 3D edge of the cube projected densely with distortion.
+    Every pixel centre more than 0.01 px from that outline must be cube inside it and background
+    outside it; the pixel centres between 0.01 and 0.05 px from it (≥ 5 of them) would be
+    misclassified by an outline (or corner) 0.05 px off (moving cx by 0.02 px already
+    misclassifies 1 and 3 of them). 0.01 px is ~50× the ray-cube intersection's f32 error and
+    ~100× the polyline's chord error."""
+    r = outputs.read(render(cube_scene(camera)))
+    m = outputs.camera_matrices(r.sidecar)
+    to_world = cube_to_world()
+    assert np.allclose(np.array(r.sidecar["objects"][0]["to_world"]), to_world, atol=1e-6)
+    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=np.float64)
+    corners = signs @ to_world[:3, :3].T + to_world[:3, 3]
+    uv = project(m, corners)
+    z = (corners @ m["R"].T + m["t"])[:, 2]
+    ids, depth = r.layer("instance"), r.layer("depth")
+    pos = r.layer("position").astype(np.float64)
+    h, w = ids.shape
+    assert np.all((uv > 2) & (uv < [w - 3, h - 3])), uv  # every corner inside the frame
+    obj = (pos - to_world[:3, 3]) @ np.linalg.inv(to_world[:3, :3]).T  # cube's own frame
+    grid = pixel_grid(h, w)
+    crit = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 100, 1e-15)
+    seen = []
+    for k in range(8):
+        i, j = np.round(uv[k]).astype(int)
+        win = (slice(j - 1, j + 2), slice(i - 1, i + 2))
+        cube_px = ids[win] == 1
+        front = depth[win][cube_px]
+        visible = front.size > 0 and front.max() > z[k] - 0.05
+        if not visible:
+            # Hidden by the cube itself: the surface it sees is well in front of the corner.
+            assert front.size and front.max() < z[k] - 0.3, (k, front, z[k])
+            continue
+        seen.append(k)
+        # The depth layer next to the corner is the corner's depth up to ~1.5 px of slope.
+        assert np.abs(front - z[k]).min() < 0.05, (k, front, z[k])
+        near = (ids == 1) & (np.linalg.norm(grid - uv[k], axis=-1) < 5)
+        faces = 0
+        for axis in range(3):
+            on = near & (np.abs(obj[..., axis] - signs[k, axis]) < 1e-4)
+            if on.sum() < 10:
+                continue
+            faces += 1
+            others = [a for a in range(3) if a != axis]
+            face_pts = (obj[on][:, others] - signs[k, others]).astype(np.float64)
+            und = cv2.undistortPointsIter(grid[on].reshape(-1, 1, 2), m["K"], m["dist"], None, None, crit)[:, 0, :]
+            hom, _ = cv2.findHomography(face_pts, und, 0)
+            x0 = hom @ np.array([0.0, 0.0, 1.0])
+            img = cv2.projectPoints(np.array([[x0[0] / x0[2], x0[1] / x0[2], 1.0]]), np.zeros(3), np.zeros(3), m["K"], m["dist"])[0][0, 0]
+            assert np.linalg.norm(img - uv[k]) < 2e-3, (k, axis, img, uv[k])
+        assert faces >= 1, k
+    assert len(seen) == 7 and int(np.argmax(z)) not in seen, (seen, z)
+
+    # The id layer's outline.
+    hull = cv2.convexHull(project(m, corners, dist=False).astype(np.float32), returnPoints=False)[:, 0]
+    assert len(hull) == 6
+    s = np.linspace(0, 1, 400, endpoint=False)[:, None]
+    outline = np.concatenate([project(m, corners[a] + s * (corners[b] - corners[a])) for a, b in zip(hull, np.roll(hull, -1))])
+    poly = outline.astype(np.float32).reshape(-1, 1, 2)
+    sd = np.array([[cv2.pointPolygonTest(poly, (float(x), float(y)), True) for x in range(w)] for y in range(h)])
+    far = np.abs(sd) > 0.01
+    assert np.array_equal((ids == 1)[far], (sd > 0)[far]), np.argwhere(far & ((ids == 1) != (sd > 0)))
+    assert ((np.abs(sd) > 0.01) & (np.abs(sd) < 0.05)).sum() >= 5
+
+
+def test_boxes_only_when_traced_or_asked(render):
+    """A render without geometry or id AOVs traces no pixel-centre rays, so its sidecar has no
+    boxes (never a stale or guessed one); `--boxes` (or `boxes: true`) adds them, equal to the
+    boxes of a render that writes the instance layer; `alpha` and `stderr` alone need no hits."""
+    text = scene(f"fov: 45, {LOOK}", aovs="")
+    with_ids = outputs.read(render(scene(f"fov: 45, {LOOK}", aovs='"instance"'))).sidecar["objects"]
+    for args in [(), ("--aovs", "alpha,stderr")]:
+        objs = outputs.read(render(text, *args)).sidecar["objects"]
+        assert all("bbox" not in o and "visible_pixels" not in o for o in objs)
+        assert [o["name"] for o in objs] == [o["name"] for o in with_ids]
+    for out in [render(text, "--boxes"), render(text.replace("aovs: [],", "aovs: [], boxes: true,"))]:
+        objs = outputs.read(out).sidecar["objects"]
+        assert [(o["bbox"], o["visible_pixels"]) for o in objs] == [(o["bbox"], o["visible_pixels"]) for o in with_ids]
+    assert sum(o["visible_pixels"] > 0 for o in with_ids) == 4
