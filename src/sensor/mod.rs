@@ -16,6 +16,7 @@
 pub mod bands;
 pub mod camera;
 pub mod colour_space;
+pub mod export;
 pub mod observer;
 pub mod sampling;
 pub mod setup;
