@@ -12,7 +12,6 @@
 //! exporter's `outputs` already describes.
 
 use super::{Response, Sensor, Shape};
-use crate::film::spectral_channel_name;
 use serde_json::{json, Value};
 
 /// The channel list (module docs) for the spectral range [lo, hi].
@@ -23,16 +22,14 @@ pub fn channels(sensor: &Sensor, lo: f32, hi: f32) -> Value {
         for k in 0..b.count {
             let (a, z) = (b.lo + k as f32 * w, b.lo + (k + 1) as f32 * w);
             let srf = irregular(&[a, z], &[1.0, 1.0]);
-            out.push(
-                json!({"name": spectral_channel_name(b.center(k)), "srf": srf, "gain": 1.0 / w}),
-            );
+            out.push(json!({"name": sensor.band_name(k), "srf": srf, "gain": 1.0 / w}));
         }
     }
     let names = &sensor.layers.responses;
     let camera = sensor.layers.camera.as_ref();
     for (k, r) in sensor.responses().iter().enumerate() {
         let (name, gain) = match names.get(k) {
-            Some(n) => (n.text(), r.scale),
+            Some(n) => (sensor.response_name(n), r.scale),
             None => {
                 // The camera's three curves follow the named responses.
                 let c = k - names.len();
