@@ -16,6 +16,7 @@
 //!                  "caustics": null | {"light_paths", "bright_ratio", "max_roughness", "area_lights"}},
 //!   "spectral": {"wavelengths", "range": [lo, hi], "sampling", "dispersion"},
 //!   "outputs": {"rgb", "xyz", "bands": null | {"count", "range"}},
+//!   "sensor": {"channels": [{"name", "srf": spectrum, "gain"}...]} (src/sensor/export.rs),
 //!   "materials": [material...], "shapes": [shape...], "emitters": [emitter...] }
 //! material: {"type": "diffuse", "reflectance": texture} | {"type": "twosided", "front", "back"}
 //!   | {"type": "blend", "weight": float_texture, "bsdf0", "bsdf1"} | {"type": "mask", "opacity", "bsdf"}
@@ -106,6 +107,7 @@ pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
         "integrator": {"type": "path", "max_depth": s.path.max_depth, "rr_depth": s.path.rr_depth, "hide_emitters": s.path.hide_emitters, "clamp": s.path.clamp, "caustics": s.path.caustics},
         "spectral": {"wavelengths": s.lanes, "range": [lo, hi], "sampling": format!("{:?}", s.wavelengths.kind()).to_lowercase(), "dispersion": format!("{:?}", s.dispersion)},
         "outputs": {"rgb": job.channels.sensor.layers.rgb.contains(&crate::sensor::RgbSpace::Srgb), "xyz": job.channels.sensor.layers.xyz, "bands": job.channels.sensor.bands().map(|b| json!({"count": b.count, "range": [b.lo, b.hi]}))},
+        "sensor": {"channels": crate::sensor::export::channels(&job.channels.sensor, lo, hi)},
         "materials": scene.materials.iter().map(|m| ctx.material(m)).collect::<Vec<_>>(),
         "shapes": shapes,
         "emitters": scene.emitters.iter().map(|e| ctx.emitter(e)).collect::<Vec<_>>(),

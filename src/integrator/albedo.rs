@@ -84,11 +84,8 @@ fn band_mean(lo: f32, hi: f32, f: impl Fn(f32) -> f32) -> f32 {
 }
 
 /// `albedo.R/G/B` and, with `bands`, one `albedo.<band>` per band, from the pixel-centre hits.
-pub fn layers(
-    scene: &Scene,
-    hits: &[Option<Hit>],
-    bands: Option<crate::sensor::Bands>,
-) -> Vec<Channel> {
+pub fn layers(scene: &Scene, hits: &[Option<Hit>], sensor: &crate::sensor::Sensor) -> Vec<Channel> {
+    let bands = sensor.bands();
     let weights = xyz_weights();
     let nb = bands.map_or(0, |b| b.count as usize);
     let per_pixel: Vec<Vec<f32>> = hits
@@ -117,10 +114,7 @@ pub fn layers(
         .collect();
     let mut names: Vec<String> = ["R", "G", "B"].map(|c| format!("albedo.{c}")).to_vec();
     if let Some(b) = bands {
-        names.extend(
-            (0..b.count)
-                .map(|k| format!("albedo.{}", crate::film::spectral_channel_name(b.center(k)))),
-        );
+        names.extend((0..b.count).map(|k| format!("albedo.{}", sensor.band_name(k))));
     }
     names
         .into_iter()

@@ -38,9 +38,11 @@ pub fn add_layers(
         film.channels.extend(stderr_layers(se, &job.channels));
     }
     if job.aovs.contains(&Aov::Albedo) {
-        let bands = job.channels.sensor.bands();
-        film.channels
-            .extend(super::albedo::layers(&job.scene, h, bands));
+        film.channels.extend(super::albedo::layers(
+            &job.scene,
+            h,
+            &job.channels.sensor,
+        ));
     }
     hits
 }
@@ -56,7 +58,7 @@ fn stderr_layers(se: &[f32], channels: &crate::film::FilmChannels) -> Vec<Channe
     if let Some(b) = channels.sensor.bands() {
         for k in 0..b.count {
             out.push(Channel {
-                name: format!("stderr.{}", crate::film::spectral_channel_name(b.center(k))),
+                name: format!("stderr.{}", channels.sensor.band_name(k)),
                 data: pick(crate::sensor::XYZ_SLOTS + k as usize),
             });
         }

@@ -181,7 +181,7 @@ pub fn value(
             "range_nm": [b.lo, b.hi],
             "width_nm": b.width(),
             "bands": (0..b.count).map(|i| json!({
-                "channel": crate::film::spectral_channel_name(b.center(i)),
+                "channel": c.sensor.band_name(i),
                 "center_nm": b.center(i),
                 "range_nm": [b.lo + i as f32 * b.width(), b.lo + (i + 1) as f32 * b.width()],
             })).collect::<Vec<_>>(),
@@ -196,7 +196,7 @@ pub fn value(
                 "name": a.name(),
                 "channels": a.channels().iter().map(|c| format!("{}.{c}", a.name()))
                     .chain(c.sensor.bands().filter(|_| matches!(a, crate::film::Aov::Stderr | crate::film::Aov::Albedo)).into_iter().flat_map(|b| {
-                        (0..b.count).map(move |k| format!("{}.{}", a.name(), crate::film::spectral_channel_name(b.center(k))))
+                        (0..b.count).map(move |k| format!("{}.{}", a.name(), c.sensor.band_name(k)))
                     }))
                     .collect::<Vec<_>>(),
                 "type": if a.is_id() { "uint32" } else { "float32" },
@@ -216,7 +216,7 @@ pub fn value(
             // camera, white balance, camera-to-XYZ matrix, exposure scale).
             "attributes": layers.header.iter().map(|(k, v)| (k.clone(), Value::from(v.clone()))).collect::<serde_json::Map<_, _>>(),
             "colour_channels": {"rgb": layers.rgb.iter().map(|r| format!("{r:?}")).collect::<Vec<_>>(), "xyz": layers.xyz},
-            "response_channels": layers.responses.iter().map(|r| r.text()).collect::<Vec<_>>(),
+            "response_channels": layers.responses.iter().map(|r| c.sensor.response_name(r)).collect::<Vec<_>>(),
             "units": "spectral radiance, W m^-2 sr^-1 nm^-1 (bands: mean over the band); XYZ and RGB: the CMF-weighted integral with Y of a unit constant spectrum = 1",
             "bands": bands,
             "exposure": Value::Null,

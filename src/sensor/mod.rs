@@ -16,6 +16,8 @@
 pub mod bands;
 pub mod camera;
 pub mod colour_space;
+pub mod export;
+pub mod names;
 pub mod observer;
 pub mod sampling;
 pub mod setup;
@@ -38,6 +40,7 @@ pub enum ChannelName {
 }
 
 impl ChannelName {
+    /// The name on its own (unpadded); the film writes `Sensor::response_name` (names.rs).
     pub fn text(&self) -> String {
         match self {
             ChannelName::Spectral(c) => spectral_channel_name(*c),
@@ -238,7 +241,7 @@ impl Sensor {
                 let center = b.center(k);
                 band_centers.push(center);
                 channels.push(Channel {
-                    name: spectral_channel_name(center),
+                    name: self.band_name(k),
                     data: slot(XYZ_SLOTS + k as usize),
                 });
             }
@@ -248,7 +251,7 @@ impl Sensor {
                 band_centers.push(*c);
             }
             channels.push(Channel {
-                name: name.text(),
+                name: self.response_name(name),
                 data: slot(self.response_base + k),
             });
         }

@@ -40,13 +40,13 @@ def fov_deg() -> float:
     return float(np.degrees(2.0 * np.arctan(0.5 * width / DISTANCE)))
 
 
-def scene_ron(spp: int = 64, bands: int = 47, sensor: str | None = None, emitter: str = 'Named("D65")', spectral: str = "sampling: Visible, wavelengths: 16", hi: float = 830.0) -> str:
+def scene_ron(spp: int = 64, bands: int = 47, sensor: str | None = None, emitter: str = 'Named("D65")', spectral: str = "sampling: Visible, wavelengths: 16", hi: float = 830.0, px_per_unit: float = 24.0) -> str:
     """The scene as prism RON text (24 pixels per patch side; 16 wavelengths per path, since
     spectral noise dominates a flat patch under a constant sky). `sensor` replaces the `outputs`
-    line, `emitter` is the sky's radiance, `hi` how far the reflectances are held (nm)."""
+    line, `emitter` is the sky's radiance, `hi` how far the reflectances are held (nm),
+    `px_per_unit` the film's resolution (pixels per patch side)."""
     width = COLS * PATCH + (COLS + 1) * GAP
     height = ROWS * PATCH + (ROWS + 1) * GAP
-    px_per_unit = 24.0
     res = (round(width * px_per_unit), round(height * px_per_unit))
     materials, shapes = [], []
     for i, (name, sd) in enumerate(reflectances(hi)):

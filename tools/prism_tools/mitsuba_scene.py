@@ -4,7 +4,9 @@ dictionary at matched settings, for Mitsuba's spectral variants.
 The export is the one source of truth: the world-space PLY meshes (rectangles and cubes
 included), camera, pixel filter, integrator and prism's own tabulation of every spectrum
 (as Mitsuba `irregular` spectra, so an RGB value is uplifted once, by prism). Mitsuba's film is an
-`hdrfilm` with linear sRGB output, which is what prism's R, G, B channels hold.
+`hdrfilm` with linear sRGB output, which is what prism's R, G, B channels hold, or (`convert(...,
+spectral_film=True)`) a `specfilm` with one response curve per sensor channel (bands, filters,
+camera RGB).
 
 What Mitsuba cannot render the same way raises `Unsupported` (`Dispersive` for a
 wavelength-dependent index of refraction), naming the part of the scene.
@@ -277,15 +279,34 @@ def _film(scene: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+def specfilm(scene: dict[str, Any]) -> tuple[dict[str, Any], list[str], np.ndarray]:
+    """Mitsuba's `specfilm` recording prism's sensor channels (the export's `sensor.channels`:
+    src/sensor/export.rs), with the channels' prism names and gains: prism's channel k is
+    `gains[k]` times the film's channel k (∫ L·srf dλ; the film samples λ from the sum of the
+    curves, so bands past 830 nm render too). XYZ and RGB channels are not among them."""
+    channels = scene.get("sensor", {}).get("channels", [])
+    if not channels:
+        raise Unsupported("the sensor has no spectral channels (bands, filters or a camera) for a specfilm")
+    film = _film(scene)
+    film["type"] = "specfilm"
+    del film["pixel_format"]
+    # Zero-padded keys: the film's channels come out in this order, which is also sorted order.
+    for k, ch in enumerate(channels):
+        film[f"srf_{k:03d}"] = spectrum(ch["srf"])
+    return film, [ch["name"] for ch in channels], np.array([float(ch["gain"]) for ch in channels])
+
+
 def check_spectral(scene: dict[str, Any]) -> None:
     lo, hi = map(float, scene["spectral"]["range"])
     if lo > MITSUBA_RANGE[0] or hi < MITSUBA_RANGE[1]:
         raise Unsupported(f"prism renders {lo}–{hi} nm; Mitsuba's RGB integrates 360–830 nm")
 
 
-def convert(scene: dict[str, Any], spp: int | None = None, seed: int = 0) -> dict[str, Any]:
-    """A Mitsuba scene dict for the exported prism scene (`spp` overrides the scene's)."""
-    check_spectral(scene)
+def convert(scene: dict[str, Any], spp: int | None = None, seed: int = 0, spectral_film: bool = False) -> dict[str, Any]:
+    """A Mitsuba scene dict for the exported prism scene (`spp` overrides the scene's); with
+    `spectral_film`, the film is the `specfilm` of prism's sensor channels (see `specfilm`)."""
+    if not spectral_film:
+        check_spectral(scene)
     cam, integ = scene["camera"], scene["integrator"]
     if integ["type"] != "path":
         raise Unsupported(f"integrator {integ['type']!r}")
@@ -322,7 +343,7 @@ def convert(scene: dict[str, Any], spp: int | None = None, seed: int = 0) -> dic
             "to_world": _transform(cam["to_world"]),
             # Any unbiased sampler estimates the same image; prism's Sobol has no Mitsuba twin.
             "sampler": {"type": "independent", "sample_count": int(spp or scene["sampler"]["spp"]), "seed": int(seed)},
-            "film": _film(scene),
+            "film": specfilm(scene)[0] if spectral_film else _film(scene),
         },
     }
     materials = scene["materials"]
