@@ -17,6 +17,7 @@ pub mod bands;
 pub mod camera;
 pub mod colour_space;
 pub mod observer;
+pub mod raw;
 pub mod sampling;
 pub mod setup;
 
@@ -82,6 +83,8 @@ pub struct Sensor {
     /// Slot of the first response channel.
     response_base: usize,
     pub layers: Layers,
+    /// The raw sensor, read out once on the finished film (`raw::RawModel::mosaic`).
+    pub raw: Option<raw::RawModel>,
 }
 
 /// Accumulator slots: X, Y, Z first, then one per band.
@@ -109,6 +112,7 @@ impl Sensor {
             response_base: XYZ_SLOTS + bands.map_or(0, |b| b.count as usize),
             responses,
             layers,
+            raw: None,
         }
     }
 
