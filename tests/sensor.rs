@@ -205,11 +205,15 @@ fn presets_load() {
             "cie1931" | "cie1964" => assert!(has("X") && has("R") && film.band_centers.is_empty()),
             "hyperspectral_31" => assert_eq!(film.band_centers.len(), 31),
             "rgb_nir" => assert!(has("nir.Y") && has("camera.R")),
+            "raw_rggb" => assert!(
+                has("camera.G") && film.uint_channels.iter().any(|c| c.name == "raw.Y"),
+                "{stem}"
+            ),
             _ => assert!(has("camera.G") && has("corrected.B"), "{stem}"),
         }
         n += 1;
     }
-    assert!(n >= 7, "{n} presets");
+    assert!(n >= 8, "{n} presets");
 }
 
 /// `spectral.sampling: Sensor` draws wavelengths from the density it reports: a chi-square test

@@ -13,6 +13,7 @@
 //!     ],
 //!     camera: (curves: Named("nikon_d810"), white_balance: Illuminant("D65"),
 //!              exposure: (iso: 100, shutter: 0.01, f_number: 4)),
+//!     raw: (pattern: Rggb, bits: 14),     // the chip's mosaic with noise: channel `raw.Y`
 //! )
 //! ```
 
@@ -108,6 +109,9 @@ pub struct SensorConfig {
     pub bands: Option<Vec<BandConfig>>,
     /// A camera's colour channels (`camera.R/G/B`) and its colour-corrected RGB (`corrected.R/G/B`).
     pub camera: Option<CameraConfig>,
+    /// What the sensor chip records (`raw.Y`: a Bayer mosaic of the camera's curves in DN, with
+    /// shot, read and dark noise). Needs `camera` with `exposure`. Default none.
+    pub raw: Option<RawConfig>,
 }
 
 impl Default for SensorConfig {
@@ -118,6 +122,7 @@ impl Default for SensorConfig {
             rgb: vec![RgbSpace::Srgb],
             bands: None,
             camera: None,
+            raw: None,
         }
     }
 }
@@ -207,4 +212,93 @@ pub struct ExposureConfig {
     pub iso: f32,
     pub shutter: f32,
     pub f_number: f32,
+}
+
+/// `raw: (...)`: the sensor chip's record, one value per pixel (`raw.Y`, uint32 DN) from the
+/// camera curve of its Bayer site (src/sensor/raw.rs has the model). Every field has a default:
+///
+/// ```ron
+/// raw: (
+///     pattern: Rggb,            // Rggb, Bggr, Grbg, Gbrg: the 2×2 tile from the top-left pixel
+///     pixel_pitch: 4.0,         // µm; the pixel's area is pitch²
+///     quantum_efficiency: 0.5,  // at the peak of the most sensitive curve (curves are relative)
+///     full_well: 30000,         // e⁻: the collected charge clips here
+///     read_noise: 3.0,          // e⁻ rms (Gaussian)
+///     dark_current: 0.1,        // e⁻/s per pixel (Poisson over the shutter time)
+///     gain: UnityIso(400),      // DN per e⁻ = ISO / 400 (camera.exposure.iso); or PerElectron(0.25)
+///     black_level: 512,         // DN added before quantisation
+///     bits: 14,                 // DN clamp to [0, 2^bits − 1]
+///     noise: true,              // false: the expected values, rounded (no random draws)
+/// )
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RawConfig {
+    pub pattern: BayerPattern,
+    pub pixel_pitch: f64,
+    pub quantum_efficiency: f64,
+    pub full_well: f64,
+    pub read_noise: f64,
+    pub dark_current: f64,
+    pub gain: Gain,
+    pub black_level: f64,
+    pub bits: u32,
+    pub noise: bool,
+}
+
+impl Default for RawConfig {
+    fn default() -> Self {
+        Self {
+            pattern: BayerPattern::Rggb,
+            pixel_pitch: 4.0,
+            quantum_efficiency: 0.5,
+            full_well: 30000.0,
+            read_noise: 3.0,
+            dark_current: 0.1,
+            gain: Gain::UnityIso(400.0),
+            black_level: 512.0,
+            bits: 14,
+            noise: true,
+        }
+    }
+}
+
+/// The colour of the 2×2 Bayer tile's four sites, read left to right, top row first, from the
+/// image's top-left pixel (row 0 at the top).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BayerPattern {
+    #[default]
+    Rggb,
+    Bggr,
+    Grbg,
+    Gbrg,
+}
+
+impl BayerPattern {
+    pub const ALL: [BayerPattern; 4] = [
+        BayerPattern::Rggb,
+        BayerPattern::Bggr,
+        BayerPattern::Grbg,
+        BayerPattern::Gbrg,
+    ];
+
+    /// The camera channel (0 = R, 1 = G, 2 = B) of pixel (x, y).
+    pub fn channel(self, x: u32, y: u32) -> usize {
+        let tile: [usize; 4] = match self {
+            BayerPattern::Rggb => [0, 1, 1, 2],
+            BayerPattern::Bggr => [2, 1, 1, 0],
+            BayerPattern::Grbg => [1, 0, 2, 1],
+            BayerPattern::Gbrg => [1, 2, 0, 1],
+        };
+        tile[((y & 1) * 2 + (x & 1)) as usize]
+    }
+}
+
+/// The conversion gain, DN per photo-electron: `PerElectron(g)`, or `UnityIso(u)`: g = ISO / u
+/// with the ISO of `camera.exposure` (u is the ISO at which one electron is one DN).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Gain {
+    PerElectron(f64),
+    UnityIso(f64),
 }

@@ -86,13 +86,18 @@ pub fn render_film(
         (16, true) => render_lanes::<16, true>(scene, settings, sensor, progress),
         (n, _) => panic!("{n} wavelengths per path is not supported (config validation lets only {SUPPORTED_LANES:?} through)"),
     };
-    let film = Film::from_means(
+    let mut film = Film::from_means(
         settings.width,
         settings.height,
         channels,
         &means,
         sensor.slots(),
     );
+    if let Some(raw) = &sensor.raw {
+        let (w, h, slots) = (settings.width, settings.height, sensor.slots());
+        film.uint_channels
+            .push(raw.mosaic(&means, slots, w, h, settings.seed));
+    }
     // Finite samples can still sum past f32's range; such pixels count as invalid too.
     stats.invalid_samples += film.nonfinite_pixels();
     (film, stats, se)

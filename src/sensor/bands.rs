@@ -29,6 +29,8 @@ pub enum Shape {
     Box { lo: f32, hi: f32 },
     /// A tabulated or analytic curve (0 outside its data).
     Curve(Curve),
+    /// A curve times λ (nm): a photon count's weight (the raw sensor's electrons, raw.rs).
+    Photons(Curve),
 }
 
 /// One response channel: it accumulates L(λ)·shape(λ)·scale.
@@ -52,6 +54,7 @@ impl Response {
                 }
             }
             Shape::Curve(c) => c.eval_one(lambda),
+            Shape::Photons(c) => c.eval_one(lambda) * lambda,
         }
     }
 
@@ -60,7 +63,7 @@ impl Response {
     pub fn support(&self, range: (f32, f32)) -> (f32, f32) {
         match &self.shape {
             Shape::Box { lo, hi } => (*lo, *hi),
-            Shape::Curve(c) => c.support().unwrap_or(range),
+            Shape::Curve(c) | Shape::Photons(c) => c.support().unwrap_or(range),
         }
     }
 

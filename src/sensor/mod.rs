@@ -19,6 +19,7 @@ pub mod colour_space;
 pub mod export;
 pub mod names;
 pub mod observer;
+pub mod raw;
 pub mod sampling;
 pub mod setup;
 
@@ -85,6 +86,8 @@ pub struct Sensor {
     /// Slot of the first response channel.
     response_base: usize,
     pub layers: Layers,
+    /// The raw sensor, read out once on the finished film (`raw::RawModel::mosaic`).
+    pub raw: Option<raw::RawModel>,
 }
 
 /// Accumulator slots: X, Y, Z first, then one per band.
@@ -112,6 +115,7 @@ impl Sensor {
             response_base: XYZ_SLOTS + bands.map_or(0, |b| b.count as usize),
             responses,
             layers,
+            raw: None,
         }
     }
 

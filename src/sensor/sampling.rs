@@ -50,7 +50,8 @@ impl Sensor {
         }
         if self.layers.camera.is_some() {
             add(&|l| {
-                self.responses[camera_from..]
+                // The camera's three curves (the raw sensor's photon slots follow them).
+                self.responses[camera_from..camera_from + 3]
                     .iter()
                     .map(|r| r.eval(l) as f64)
                     .sum()

@@ -286,8 +286,25 @@ fn from_config(
         camera: None,
         header: vec![("prism:observer".into(), cfg.observer.label().into())],
     };
+    let mut raw = None;
+    if let (Some(_), None) = (&cfg.raw, &cfg.camera) {
+        return Err(at
+            .err("raw", "the raw sensor needs a camera: its mosaic samples the camera's R, G, B curves")
+            .hint("add camera: (curves: Named(\"sony_ilce_7m3\"), exposure: (iso: 100, shutter: 0.01, f_number: 4)), or see configs/sensors/raw_rggb.ron"));
+    }
     if let Some(cam) = &cfg.camera {
         let (curves, model) = camera_model(cam, at, range, cfg.observer, warnings)?;
+        if let Some(r) = &cfg.raw {
+            let err = |f: &str, m: String, fix: &str| {
+                let field = if f.is_empty() {
+                    "raw".to_string()
+                } else {
+                    format!("raw.{f}")
+                };
+                at.err(&field, m).hint(fix)
+            };
+            raw = Some(super::raw::build(r, &curves, cam.exposure, range, &err)?);
+        }
         let (glo, ghi) = curves[1].support().unwrap_or(range);
         let g = Response {
             shape: Shape::Curve(curves[1].clone()),
@@ -309,6 +326,12 @@ fn from_config(
         layers.header.extend(model.header());
         layers.camera = Some(model);
     }
+    // The raw sensor's photon slots come last, after the camera's.
+    let raw = raw.map(|r: super::raw::RawSetup| {
+        responses.extend(r.photons);
+        layers.header.extend(r.header);
+        r.model
+    });
     // Channel names must be unique (the EXR format requires it).
     for (i, s) in layers.rgb.iter().enumerate() {
         if layers.rgb[..i].contains(s) {
@@ -368,7 +391,12 @@ fn from_config(
             cfg.observer.label()
         ));
     }
-    Ok(Sensor::with(cfg.observer, even, responses, layers))
+    let mut sensor = Sensor::with(cfg.observer, even, responses, layers);
+    sensor.raw = raw.map(|m| super::raw::RawModel {
+        slot: sensor.slots() - 3,
+        ..m
+    });
+    Ok(sensor)
 }
 
 /// A user's layer name (`nir` → channel `nir.Y`): letters, digits, `_` and `-` only.
@@ -377,10 +405,10 @@ fn layer_name(at: &At, field: &str, n: &str) -> Result<String, InputError> {
         && n.chars()
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
         && !n.starts_with("S0")
-        && !["camera", "corrected"].contains(&n);
+        && !["camera", "corrected", "raw"].contains(&n);
     if !ok {
         return Err(at.err(field, format!("`{n}` is not a usable layer name"))
-            .hint("use ASCII letters, digits, `_` or `-`, not starting with S0 and not `camera` or `corrected`"));
+            .hint("use ASCII letters, digits, `_` or `-`, not starting with S0 and not `camera`, `corrected` or `raw`"));
     }
     Ok(format!("{n}.Y"))
 }
