@@ -28,6 +28,11 @@ pub fn channels(sensor: &Sensor, lo: f32, hi: f32) -> Value {
     let names = &sensor.layers.responses;
     let camera = sensor.layers.camera.as_ref();
     for (k, r) in sensor.responses().iter().enumerate() {
+        // The raw model's photon-count slots feed `raw.Y`, computed after the render: no
+        // film channel of their own, nothing for a spectral film to reproduce.
+        if matches!(r.shape, Shape::Photons(_)) {
+            continue;
+        }
         let (name, gain) = match names.get(k) {
             Some(n) => (sensor.response_name(n), r.scale),
             None => {
@@ -52,9 +57,16 @@ fn irregular(nm: &[f32], values: &[f32]) -> Value {
 fn srf(r: &Response, lo: f32, hi: f32) -> Value {
     match &r.shape {
         Shape::Box { lo: a, hi: z } => irregular(&[a.max(lo), z.min(hi)], &[1.0, 1.0]),
-        Shape::Curve(c) => {
+        Shape::Curve(c) | Shape::Photons(c) => {
+            let weight = |l: f32| match r.shape {
+                Shape::Photons(_) => l,
+                _ => 1.0,
+            };
             let Some((knots, _)) = c.tabulate(lo, hi) else {
                 let v = c.eval_one(lo);
+                if matches!(r.shape, Shape::Photons(_)) {
+                    return irregular(&[lo, hi], &[v * lo, v * hi]);
+                }
                 return irregular(&[lo, hi], &[v, v]);
             };
             let (first, last) = (knots[0], knots[knots.len() - 1]);
@@ -67,7 +79,7 @@ fn srf(r: &Response, lo: f32, hi: f32) -> Value {
                 nm.push(hi);
             }
             nm.dedup();
-            let values: Vec<f32> = nm.iter().map(|&l| c.eval_one(l)).collect();
+            let values: Vec<f32> = nm.iter().map(|&l| c.eval_one(l) * weight(l)).collect();
             irregular(&nm, &values)
         }
     }
