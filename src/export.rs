@@ -275,7 +275,7 @@ impl Ctx {
             Material::Principled(p) => json!({"type": "gltf_principled",
                 "base_color": self.texture(&p.base_color), "metallic": self.float_texture(&p.metallic),
                 "roughness": self.float_texture(&p.roughness), "f0_ior": p.f0_ior,
-                "specular": p.specular, "specular_color": self.spectrum(&p.specular_color),
+                "specular": self.float_texture(&p.specular), "specular_color": self.spectrum(&p.specular_color),
                 "specular_color_max": p.specular_color_max, "transmission": self.float_texture(&p.transmission)}),
         }
     }

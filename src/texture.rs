@@ -27,17 +27,29 @@ pub enum TexFilter {
     Nearest,
 }
 
-/// Where a texture sits on the surface.
+/// Where a texture sits on the surface: uv ↦ R(θ) · (uv · scale) + offset, with R(θ) =
+/// [[cos θ, sin θ], [−sin θ, cos θ]] (KHR_texture_transform's order and sense; θ = 0 from RON).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UvMap {
     pub scale: Vec2,
     pub offset: Vec2,
+    /// (cos θ, sin θ); `Vec2::X` for none.
+    pub rotation: Vec2,
 }
 
 impl UvMap {
+    /// No scale, offset or rotation.
+    pub const IDENTITY: UvMap = UvMap {
+        scale: Vec2::ONE,
+        offset: Vec2::ZERO,
+        rotation: Vec2::X,
+    };
+
     #[inline]
     fn apply(&self, uv: Vec2) -> Vec2 {
-        uv * self.scale + self.offset
+        let s = uv * self.scale;
+        let (c, r) = (self.rotation.x, self.rotation.y);
+        Vec2::new(c * s.x + r * s.y, c * s.y - r * s.x) + self.offset
     }
 }
 
@@ -464,10 +476,7 @@ mod tests {
 
     #[test]
     fn checkerboard_and_wrap() {
-        let map = UvMap {
-            scale: Vec2::ONE,
-            offset: Vec2::ZERO,
-        };
+        let map = UvMap::IDENTITY;
         let t = FloatTexture::Checkerboard {
             value0: 1.0,
             value1: 0.0,
@@ -519,10 +528,7 @@ mod bitmap_tests {
         assert!((rgb.pixels[0][1] - srgb_decode(128.0 / 255.0)).abs() < 1e-6);
         let raw = load_rgb(&path, true).unwrap();
         assert!((raw.pixels[0][1] - 128.0 / 255.0).abs() < 1e-6);
-        let map = UvMap {
-            scale: Vec2::ONE,
-            offset: Vec2::ZERO,
-        };
+        let map = UvMap::IDENTITY;
         let tex = SpectralTexture::Bitmap(Box::new(rgb.to_reflectance(
             Wrap::Clamp,
             TexFilter::Nearest,

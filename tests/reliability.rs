@@ -29,10 +29,7 @@ fn nan_bitmap() -> FloatTexture {
         texels: vec![0.5, f32::NAN, 0.5, 0.5],
         wrap: Wrap::Repeat,
         filter: TexFilter::Bilinear,
-        map: UvMap {
-            scale: Vec2::ONE,
-            offset: Vec2::ZERO,
-        },
+        map: UvMap::IDENTITY,
         source: None,
     }))
 }

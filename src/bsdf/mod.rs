@@ -40,7 +40,7 @@ pub use diffuse::Diffuse;
 use glam::{Vec2, Vec3};
 use microfacet::{Distribution, Microfacet};
 pub use plastic::Plastic;
-pub use principled::{Principled, PrincipledParams};
+pub use principled::{Principled, PrincipledParams, SpecularColorTexture};
 pub use roughconductor::RoughConductor;
 pub use roughdielectric::RoughDielectric;
 pub use roughplastic::RoughPlastic;

@@ -46,9 +46,20 @@ pub struct PrincipledParams {
     /// component (the largest value over the wavelength range for a non-RGB spectrum).
     pub specular_color: Curve,
     pub specular_color_max: f32,
-    /// KHR_materials_specular's weight (1 without the extension).
-    pub specular: f32,
+    /// KHR_materials_specular's weight (1 without the extension; clamped to [0, 1]).
+    pub specular: FloatTexture,
     pub transmission: FloatTexture,
+    /// KHR_materials_specular's specularColorTexture, which multiplies `specular_color`; None
+    /// without one.
+    pub specular_color_texture: Option<Box<SpecularColorTexture>>,
+}
+
+/// A specular-colour texture: its (uplifted) texels, and per texel the largest RGB component
+/// of texel × factor, which replaces `specular_color_max` where the texture is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecularColorTexture {
+    pub color: SpectralTexture,
+    pub max: FloatTexture,
 }
 
 impl PrincipledParams {
@@ -57,14 +68,19 @@ impl PrincipledParams {
     pub fn at<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Principled<N> {
         let r = self.roughness.eval(uv).clamp(0.0, 1.0);
         let alpha = r * r;
-        let sc = self.specular_color.eval(wl);
+        let mut sc = self.specular_color.eval(wl);
+        let mut sc_max = self.specular_color_max;
+        if let Some(t) = &self.specular_color_texture {
+            sc *= t.color.eval(uv, wl);
+            sc_max = t.max.eval(uv);
+        }
         Principled {
             base_color: self.base_color.eval(uv, wl),
             metallic: self.metallic.eval(uv).clamp(0.0, 1.0),
             distr: Microfacet::new(Distribution::Ggx, alpha, alpha),
             f0: Spectrum::from_fn(|k| (self.f0_ior * sc[k]).min(1.0)),
-            f0_max: (self.f0_ior * self.specular_color_max).min(1.0),
-            specular: self.specular,
+            f0_max: (self.f0_ior * sc_max).min(1.0),
+            specular: self.specular.eval(uv).clamp(0.0, 1.0),
             transmission: self.transmission.eval(uv).clamp(0.0, 1.0),
         }
     }

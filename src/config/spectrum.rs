@@ -413,5 +413,6 @@ pub fn uv_map(ctx: &Context, scale: (f32, f32), offset: (f32, f32)) -> Result<Uv
     Ok(UvMap {
         scale: Vec2::new(scale.0, scale.1),
         offset: Vec2::new(offset.0, offset.1),
+        rotation: Vec2::X,
     })
 }

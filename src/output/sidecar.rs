@@ -94,11 +94,17 @@ fn hashes(job: &Job, scene_file: &Path) -> (Value, String) {
             .unwrap_or_else(|_| "unreadable".into())
     };
     let mut all = Sha256::new();
-    all.update(sha(scene_file).as_bytes());
+    // A glTF rendered directly names itself as its shape: hashed once.
+    let scene_sha = sha(scene_file);
+    all.update(scene_sha.as_bytes());
     let list: Vec<Value> = files
         .iter()
         .map(|p| {
-            let h = sha(p);
+            let h = if p == scene_file {
+                scene_sha.clone()
+            } else {
+                sha(p)
+            };
             all.update(h.as_bytes());
             json!({"path": p, "sha256": h})
         })

@@ -35,9 +35,10 @@ pub struct Job {
 pub fn load(path: &Path, edit: impl FnOnce(&mut SceneConfig)) -> Result<Job, Error> {
     let (job, inputs) = super::inputs::collect(|| -> Result<Job, Error> {
         if super::gltf::is_gltf(path) {
-            let (mut cfg, warnings) = super::gltf::scene_config(path)?;
+            let model = super::gltf::open(path)?;
+            let (mut cfg, warnings) = super::gltf::scene_for(&model)?;
             edit(&mut cfg);
-            let mut job = build(cfg, path)?;
+            let mut job = super::gltf::with_model(model, || build(cfg, path))?;
             job.warnings.splice(0..0, warnings);
             return Ok(job);
         }

@@ -80,8 +80,9 @@ pub fn from_config(
         f0_ior: f0_from_ior(c.ior),
         specular_color,
         specular_color_max,
-        specular: c.specular,
+        specular: crate::texture::FloatTexture::Constant(c.specular),
         transmission: float(c.transmission, &sub("transmission"), file)?,
+        specular_color_texture: None,
     })))
 }
 

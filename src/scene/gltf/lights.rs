@@ -166,9 +166,15 @@ pub fn light(l: &gltf::khr_lights_punctual::Light, world: Mat4) -> GltfLight {
 /// shorter side with 5% margin, +y up), its lights; with no lights and no emissive material, a
 /// uniform white environment (`Constant(radiance: Named("D65"))`, luminance 1).
 pub fn scene_config(path: &Path) -> Result<(SceneConfig, Vec<String>), InputError> {
-    let model = super::open(path)?;
+    scene_for(&super::open(path)?)
+}
+
+/// `scene_config` of a model already read (`scene::load` hands it on to the build with
+/// `with_model`, so the file is read once).
+pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), InputError> {
+    let path = model.path.as_path();
     let mut warnings = Vec::new();
-    let w = walk(&model, Mat4::IDENTITY, &mut warnings)?;
+    let w = walk(model, Mat4::IDENTITY, &mut warnings)?;
     let mut cfg = SceneConfig::default();
     let perspective = w.cameras.iter().find(|c| c.config.is_some());
     match perspective {

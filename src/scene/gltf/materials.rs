@@ -1,14 +1,16 @@
 //! glTF materials → prism materials: the metallic-roughness model becomes `Principled` (with
-//! KHR_materials_ior, _specular, _transmission), textures are read from the decoded images
-//! (base colour sRGB-decoded and uplifted; metallic and roughness from the B and G channels),
-//! KHR_texture_transform's offset and scale map the uvs, alpha MASK and BLEND wrap the material
-//! in a `Mask`, emission (times KHR_materials_emissive_strength) makes the shape an area light,
-//! and KHR_materials_dispersion (read from the raw JSON) makes a transmissive material a
-//! dispersive dielectric.
+//! KHR_materials_ior, _specular, _transmission and their textures), textures are read from the
+//! decoded images (base colour and specular colour sRGB-decoded and uplifted; metallic and
+//! roughness from the B and G channels, specular from A, transmission from R),
+//! KHR_texture_transform (offset, scale, rotation, texCoord) maps the uvs, a primitive carries
+//! the TEXCOORD set its textures read, alpha MASK and BLEND wrap the material in a `Mask`,
+//! emission (times KHR_materials_emissive_strength) makes the shape an area light, and
+//! KHR_materials_dispersion (read from the raw JSON) makes a transmissive material a dispersive
+//! dielectric. The occlusion texture is ignored on purpose (see `texture_sets`).
 
 use super::Model;
 use crate::bsdf::microfacet::Distribution;
-use crate::bsdf::{Material, PrincipledParams};
+use crate::bsdf::{Material, PrincipledParams, SpecularColorTexture};
 use crate::error::InputError;
 use crate::scene::principled::{f0_from_ior, rgb_factor};
 use crate::spectrum::{rgb2spec, Curve, Ior, RelativeIor};
@@ -64,32 +66,105 @@ fn rgba(img: &gltf::image::Data) -> Vec<[f32; 4]> {
         .collect()
 }
 
-/// Where a texture sits: KHR_texture_transform's offset and scale (a rotation is warned about
-/// and left out: prism's uv maps have none).
-fn uv_map(info: &gltf::texture::Info, model: &Model, what: &str, warn: &mut Vec<String>) -> UvMap {
-    let mut map = UvMap {
-        scale: Vec2::ONE,
-        offset: Vec2::ZERO,
+/// KHR_texture_transform on one texture reference: offset, scale, rotation (radians) and the
+/// texCoord override.
+struct Xform {
+    offset: [f32; 2],
+    scale: [f32; 2],
+    rotation: f32,
+    tex_coord: Option<u32>,
+}
+
+impl Xform {
+    fn of(info: &gltf::texture::Info) -> Option<Xform> {
+        info.texture_transform().map(|t| Xform {
+            offset: t.offset(),
+            scale: t.scale(),
+            rotation: t.rotation(),
+            tex_coord: t.tex_coord(),
+        })
+    }
+
+    /// From the raw JSON (the crate carries the extension on `textureInfo` only, not on
+    /// `normalTexture`); missing fields take the extension's defaults.
+    fn of_json(v: Option<&serde_json::Value>) -> Option<Xform> {
+        let v = v?;
+        let pair = |k: &str, d: [f32; 2]| -> [f32; 2] {
+            v.get(k)
+                .and_then(|a| a.as_array())
+                .filter(|a| a.len() == 2)
+                .and_then(|a| Some([a[0].as_f64()? as f32, a[1].as_f64()? as f32]))
+                .unwrap_or(d)
+        };
+        Some(Xform {
+            offset: pair("offset", [0.0, 0.0]),
+            scale: pair("scale", [1.0, 1.0]),
+            rotation: v.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0) as f32,
+            tex_coord: v.get("texCoord").and_then(|t| t.as_u64()).map(|t| t as u32),
+        })
+    }
+
+    fn map(t: Option<&Xform>) -> UvMap {
+        match t {
+            None => UvMap::IDENTITY,
+            Some(t) => UvMap {
+                scale: Vec2::from(t.scale),
+                offset: Vec2::from(t.offset),
+                rotation: Vec2::new(t.rotation.cos(), t.rotation.sin()),
+            },
+        }
+    }
+}
+
+/// Where a texture sits (KHR_texture_transform, rotation included).
+fn uv_map(info: &gltf::texture::Info) -> UvMap {
+    Xform::map(Xform::of(info).as_ref())
+}
+
+/// The TEXCOORD set a texture reads: KHR_texture_transform's `texCoord` overrides the
+/// textureInfo's.
+fn tex_set(info: &gltf::texture::Info) -> u32 {
+    Xform::of(info)
+        .and_then(|t| t.tex_coord)
+        .unwrap_or(info.tex_coord())
+}
+
+/// Every texture of `m` that prism reads, with its TEXCOORD set. The occlusion texture is not
+/// among them: a path tracer computes the occlusion of indirect light by tracing it, so
+/// applying a baked ambient-occlusion map as well would darken crevices twice; it is read
+/// (its indices are validated with the file) and ignored on purpose, as Blender's Cycles does.
+fn texture_sets(m: &gltf::Material) -> Vec<(&'static str, u32)> {
+    let pbr = m.pbr_metallic_roughness();
+    let mut v = Vec::new();
+    let mut push = |name, info: Option<gltf::texture::Info>| {
+        if let Some(i) = info {
+            v.push((name, tex_set(&i)));
+        }
     };
-    if info.tex_coord() != 0 {
-        warn.push(format!(
-            "{}: {what} uses TEXCOORD_{}; prism reads TEXCOORD_0 only",
-            model.path.display(),
-            info.tex_coord()
+    push("baseColorTexture", pbr.base_color_texture());
+    push("metallicRoughnessTexture", pbr.metallic_roughness_texture());
+    if let Some(s) = m.specular() {
+        push("specularTexture", s.specular_texture());
+        push("specularColorTexture", s.specular_color_texture());
+    }
+    if let Some(t) = m.transmission() {
+        push("transmissionTexture", t.transmission_texture());
+    }
+    if let Some(n) = m.normal_texture() {
+        let x = Xform::of_json(n.extension_value("KHR_texture_transform"));
+        v.push((
+            "normalTexture",
+            x.and_then(|x| x.tex_coord).unwrap_or(n.tex_coord()),
         ));
     }
-    if let Some(t) = info.texture_transform() {
-        if t.rotation() != 0.0 {
-            warn.push(format!(
-                "{}: {what}: KHR_texture_transform rotation {} is not supported and is ignored",
-                model.path.display(),
-                t.rotation()
-            ));
-        }
-        map.scale = Vec2::from(t.scale());
-        map.offset = Vec2::from(t.offset());
-    }
-    map
+    v
+}
+
+/// The TEXCOORD set a primitive of material `m` carries as its uvs: the one its textures read
+/// (prism keeps one uv set per mesh; when the textures disagree, the first one's, and
+/// `GltfMaterials` warns); 0 without textures.
+pub fn uv_set(m: &gltf::Material) -> u32 {
+    texture_sets(m).first().map_or(0, |t| t.1)
 }
 
 /// Wrap and filter from the texture's sampler (mirrored repeat is read as repeat).
@@ -181,15 +256,20 @@ impl<'a> GltfMaterials<'a> {
                 )
             })
             .collect();
-        let map = UvMap {
-            scale: Vec2::ONE,
-            offset: Vec2::ZERO,
-        };
+        let map = Xform::map(Xform::of_json(nt.extension_value("KHR_texture_transform")).as_ref());
         Some(Arc::new(grid(img, texels, &tex, map)))
     }
 
     fn image(&self, tex: &gltf::Texture) -> &gltf::image::Data {
         &self.model.images[tex.source().index()]
+    }
+
+    /// A scalar texture: `f` of each texel's RGBA, placed as `info` says.
+    fn float_map(&self, info: &gltf::texture::Info, f: impl Fn(&[f32; 4]) -> f32) -> FloatTexture {
+        let tex = info.texture();
+        let img = self.image(&tex);
+        let texels = rgba(img).iter().map(f).collect();
+        FloatTexture::Bitmap(Box::new(grid(img, texels, &tex, uv_map(info))))
     }
 
     fn build(
@@ -209,12 +289,7 @@ impl<'a> GltfMaterials<'a> {
             Some(info) => {
                 let tex = info.texture();
                 let img = self.image(&tex);
-                let map = uv_map(
-                    &info,
-                    self.model,
-                    &format!("{label} baseColorTexture"),
-                    warn,
-                );
+                let map = uv_map(&info);
                 let px = rgba(img);
                 // The factor multiplies the decoded texel; the product is uplifted.
                 let texels = px
@@ -242,12 +317,7 @@ impl<'a> GltfMaterials<'a> {
             Some(info) => {
                 let tex = info.texture();
                 let img = self.image(&tex);
-                let map = uv_map(
-                    &info,
-                    self.model,
-                    &format!("{label} metallicRoughnessTexture"),
-                    warn,
-                );
+                let map = uv_map(&info);
                 let px = rgba(img);
                 (
                     FloatTexture::Bitmap(Box::new(grid(
@@ -270,25 +340,67 @@ impl<'a> GltfMaterials<'a> {
             ),
         };
         let ior = m.ior().unwrap_or(1.5);
-        let (specular, spec_rgb) = match m.specular() {
+        let (specular, spec_rgb, spec_tex) = match m.specular() {
             Some(s) => {
-                if s.specular_texture().is_some() || s.specular_color_texture().is_some() {
-                    warn.push(format!("{}: {label}: KHR_materials_specular textures are not supported; their factors are used", self.model.path.display()));
-                }
-                (s.specular_factor(), s.specular_color_factor())
+                let f = s.specular_factor();
+                let c = s.specular_color_factor();
+                // specularTexture: A channel × factor; specularColorTexture: sRGB-decoded RGB,
+                // times the factor (which may exceed 1: kept apart from the bounded texels).
+                let weight = match s.specular_texture() {
+                    Some(info) => self.float_map(&info, |p| p[3] * f),
+                    None => FloatTexture::Constant(f),
+                };
+                let color = s.specular_color_texture().map(|info| {
+                    let tex = info.texture();
+                    let img = self.image(&tex);
+                    let map = uv_map(&info);
+                    let px = rgba(img);
+                    let dec: Vec<[f32; 3]> = px
+                        .iter()
+                        .map(|p| [0, 1, 2].map(|k| srgb_decode(p[k]).clamp(0.0, 1.0)))
+                        .collect();
+                    let texels = dec.iter().map(|d| rgb2spec::fetch(*d)).collect();
+                    let max = dec
+                        .iter()
+                        .map(|d| (0..3).map(|k| d[k] * c[k]).fold(0.0, f32::max))
+                        .collect();
+                    Box::new(SpecularColorTexture {
+                        color: SpectralTexture::Bitmap(Box::new(grid(img, texels, &tex, map))),
+                        max: FloatTexture::Bitmap(Box::new(grid(img, max, &tex, map))),
+                    })
+                });
+                (weight, c, color)
             }
-            None => (1.0, [1.0; 3]),
+            None => (FloatTexture::Constant(1.0), [1.0; 3], None),
         };
-        let transmission = match m.transmission() {
+        let (transmission, transmission_f) = match m.transmission() {
             Some(t) => {
-                if t.transmission_texture().is_some() {
-                    warn.push(format!("{}: {label}: transmissionTexture is not supported; transmissionFactor is used", self.model.path.display()));
-                }
-                t.transmission_factor()
+                let f = t.transmission_factor();
+                let tex = match t.transmission_texture() {
+                    // The R channel × factor.
+                    Some(info) => self.float_map(&info, |p| (p[0] * f).clamp(0.0, 1.0)),
+                    None => FloatTexture::Constant(f.clamp(0.0, 1.0)),
+                };
+                (tex, f)
             }
-            None => 0.0,
+            None => (FloatTexture::Constant(0.0), 0.0),
         };
-        if m.volume().is_some_and(|v| v.thickness_factor() > 0.0) && transmission > 0.0 {
+        let sets = texture_sets(m);
+        if let Some((first, k)) = sets.first() {
+            let other: Vec<String> = sets
+                .iter()
+                .filter(|(_, j)| j != k)
+                .map(|(n, j)| format!("{n} (TEXCOORD_{j})"))
+                .collect();
+            if !other.is_empty() {
+                warn.push(format!(
+                    "{}: {label}: {first} reads TEXCOORD_{k} but {} another set; prism keeps one uv set per mesh, so all of them read TEXCOORD_{k}",
+                    self.model.path.display(),
+                    other.join(", ")
+                ));
+            }
+        }
+        if m.volume().is_some_and(|v| v.thickness_factor() > 0.0) && transmission_f > 0.0 {
             warn.push(format!("{}: {label}: KHR_materials_volume is rendered thin-walled (no refraction or attenuation) unless the material has KHR_materials_dispersion", self.model.path.display()));
         }
         if m.emissive_texture().is_some() {
@@ -299,7 +411,7 @@ impl<'a> GltfMaterials<'a> {
             .and_then(|v| v.get("dispersion"))
             .and_then(|v| v.as_f64())
             .unwrap_or(0.0) as f32;
-        let mut mat = if dispersion > 0.0 && transmission > 0.0 {
+        let mut mat = if dispersion > 0.0 && transmission_f > 0.0 {
             // A dispersive glass: prism's dielectric with a Cauchy index of the same Abbe
             // number; base colour tints the transmission.
             let rel = RelativeIor::new(dispersion_abbe(ior, dispersion), Ior::Constant(1.0));
@@ -329,8 +441,9 @@ impl<'a> GltfMaterials<'a> {
                 f0_ior: f0_from_ior(ior),
                 specular_color: rgb_factor(spec_rgb),
                 specular_color_max: spec_rgb[0].max(spec_rgb[1]).max(spec_rgb[2]),
-                specular: specular.clamp(0.0, 1.0),
-                transmission: FloatTexture::Constant(transmission.clamp(0.0, 1.0)),
+                specular,
+                transmission,
+                specular_color_texture: spec_tex,
             }))
         };
         use gltf::material::AlphaMode;

@@ -14,9 +14,10 @@ mod nodes;
 
 use crate::error::InputError;
 use serde_json::Value;
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
-pub use lights::{scene_config, GltfCamera, GltfLight};
+pub use lights::{scene_config, scene_for, GltfCamera, GltfLight};
 pub use materials::dispersion_abbe;
 pub use nodes::{expand, walk, Expanded, ExpandedShape, MatRef, Primitive, Walk};
 
@@ -65,8 +66,45 @@ fn err(path: &Path, field: impl Into<String>, message: impl Into<String>) -> Inp
     InputError::new(path, message).field(field)
 }
 
+thread_local! {
+    /// The model `prism render model.gltf` read for its config, handed on to the build of that
+    /// config (`with_model`) so that the file, its buffers and images are read once.
+    static PRELOADED: RefCell<Option<Model>> = const { RefCell::new(None) };
+    /// Files read by `open` on this thread (for the test that the model is read once).
+    #[cfg(test)]
+    static OPENED: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// Runs `f` (building the config `scene_for(&model)` returned) with `model` ready for the
+/// `Gltf` shape that names its file.
+pub fn with_model<R>(model: Model, f: impl FnOnce() -> R) -> R {
+    PRELOADED.with(|p| *p.borrow_mut() = Some(model));
+    let r = f();
+    PRELOADED.with(|p| p.borrow_mut().take());
+    r
+}
+
+/// The model at `path`: the one `with_model` holds if it is that file, else read now.
+fn take_or_open(path: &Path) -> Result<Model, InputError> {
+    let pre = PRELOADED.with(|p| {
+        let mut p = p.borrow_mut();
+        if p.as_ref().is_some_and(|m| m.path == path) {
+            p.take()
+        } else {
+            None
+        }
+    });
+    match pre {
+        Some(m) => Ok(m),
+        None => open(path),
+    }
+}
+
 /// Reads and checks a `.gltf` or `.glb` file, its buffers and images.
 pub fn open(path: &Path) -> Result<Model, InputError> {
+    #[cfg(test)]
+    OPENED.with(|n| n.set(n.get() + 1));
+    crate::scene::inputs::record(path);
     let bytes = std::fs::read(path).map_err(|e| {
         InputError::new(path, format!("cannot read the glTF file: {e}"))
             .hint("glTF paths in a scene are relative to the scene file")
@@ -164,7 +202,10 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
         let field = format!("buffers[{}]", b.index());
         let what = match b.source() {
             gltf::buffer::Source::Uri(u) if u.starts_with("data:") => "its data URI".to_string(),
-            gltf::buffer::Source::Uri(u) => format!("\"{u}\""),
+            gltf::buffer::Source::Uri(u) => {
+                crate::scene::inputs::record(&base.join(u));
+                format!("\"{u}\"")
+            }
             gltf::buffer::Source::Bin => "the GLB's BIN chunk".to_string(),
         };
         let data =
@@ -196,7 +237,10 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
             gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
                 "its data URI".to_string()
             }
-            gltf::image::Source::Uri { uri, .. } => format!("\"{uri}\""),
+            gltf::image::Source::Uri { uri, .. } => {
+                crate::scene::inputs::record(&base.join(uri));
+                format!("\"{uri}\"")
+            }
             gltf::image::Source::View { view, .. } => format!("bufferViews[{}]", view.index()),
         };
         let data =
@@ -285,4 +329,25 @@ pub(super) fn add_shapes(
         shape_name.push(s.name);
     }
     punctual.extend(ex.emitters);
+}
+
+#[cfg(test)]
+mod tests {
+    /// `prism render model.gltf` (`scene::load` of a glTF file) reads the file once: the model
+    /// read for its config is the one the build uses. A RON scene that includes it reads it
+    /// once too.
+    #[test]
+    fn a_direct_render_reads_the_file_once() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gltf/Box.gltf");
+        let opened = || super::OPENED.with(|n| n.get());
+        let before = opened();
+        let job = crate::scene::load(&path, |_| {}).unwrap();
+        assert_eq!(opened() - before, 1);
+        assert_eq!(job.scene.primitive_count(), 12);
+        assert!(job.inputs.contains(&path), "{:?}", job.inputs);
+        // The model is used up: a second load reads it again (once).
+        crate::scene::load(&path, |_| {}).unwrap();
+        assert_eq!(opened() - before, 2);
+    }
 }

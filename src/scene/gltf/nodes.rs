@@ -201,7 +201,7 @@ fn read_primitive(
         .map(|it| it.map(Vec3::from).collect())
         .unwrap_or_default();
     let uvs: Vec<Vec2> = reader
-        .read_tex_coords(0)
+        .read_tex_coords(super::materials::uv_set(&prim.material()))
         .map(|it| it.into_f32().map(Vec2::from).collect())
         .unwrap_or_default();
     let tangents: Vec<[f32; 4]> = reader
@@ -277,7 +277,7 @@ pub fn expand(
     };
     let t = super::super::transform(&sc.to_world, file, &format!("{field}.to_world"))?;
     let full = base.join(path);
-    let model = super::open(&full).map_err(|e| {
+    let model = super::take_or_open(&full).map_err(|e| {
         let hint = e.hint.clone().unwrap_or_default();
         e.hint(format!("{hint} (included by {} {field})", file.display()).trim_start())
     })?;
