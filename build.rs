@@ -38,25 +38,81 @@ fn host_cpu_cfgs() {
 #[allow(dead_code)]
 #[path = "src/spectrum"]
 mod spectrum {
+    pub mod gamut;
     pub mod rgb2spec_fit;
     pub mod table;
 }
 
-/// Fits the sRGB sigmoid coefficient table (Jakob & Hanika 2019) from the CIE data in `spectra/`
-/// and writes it to `srgb_sigmoid.bin`, which `src/spectrum/rgb2spec.rs` embeds.
+/// Fits the sigmoid coefficient tables (Jakob & Hanika 2019) of every input RGB space (linear
+/// sRGB, Rec. 2020, Display P3, ACEScg; `src/spectrum/gamut.rs`) from the CIE data in
+/// `spectra/` and writes them to `<space>_sigmoid.bin`, which `src/spectrum/rgb2spec.rs` embeds.
+/// Each fit's time goes to the build script's output (`target/*/build/prism-*/output`) and to
+/// `fit_times.txt` beside the tables.
 fn fit_rgb_table(root: &Path, out: &Path) {
+    use spectrum::gamut::ALL_GAMUTS;
     use spectrum::rgb2spec_fit::{fit_table, FitData};
-    for src in ["src/spectrum/rgb2spec_fit.rs", "src/spectrum/table.rs"] {
+    for src in [
+        "src/spectrum/rgb2spec_fit.rs",
+        "src/spectrum/table.rs",
+        "src/spectrum/gamut.rs",
+    ] {
         println!("cargo:rerun-if-changed={}", root.join(src).display());
     }
     let read = |rel: &str| {
         let path = root.join("spectra").join(rel);
         fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
     };
-    let data = FitData::from_texts(&read("cmf/CIE1931_2deg.txt"), &read("illuminants/D65.txt"))
-        .unwrap_or_else(|e| panic!("RGB uplifting data: {e}"));
-    let table = fit_table(&data, 64);
-    fs::write(out.join("srgb_sigmoid.bin"), table.to_bytes()).unwrap();
+    let (cmf, d65) = (read("cmf/CIE1931_2deg.txt"), read("illuminants/D65.txt"));
+    let data =
+        FitData::from_texts(&cmf, &d65).unwrap_or_else(|e| panic!("RGB uplifting data: {e}"));
+    // The fit depends only on these inputs: a table whose key (a hash of them) matches the one
+    // stored beside it from an earlier run is kept, so editing another file of `spectra/`
+    // (which re-runs this script) does not refit.
+    let sources: Vec<String> = [
+        "src/spectrum/rgb2spec_fit.rs",
+        "src/spectrum/table.rs",
+        "src/spectrum/gamut.rs",
+    ]
+    .iter()
+    .map(|p| fs::read_to_string(root.join(p)).unwrap())
+    .collect();
+    let mut times = String::new();
+    for gamut in ALL_GAMUTS {
+        let res = 64;
+        let mut key = Fnv::new();
+        for text in sources.iter().chain([&cmf, &d65]) {
+            key.add(text.as_bytes());
+        }
+        key.add(gamut.name().as_bytes());
+        key.add(&(res as u64).to_le_bytes());
+        let key = format!("{:016x}", key.0);
+        let (file, key_file) = (
+            out.join(gamut.table_file()),
+            out.join(format!("{}.key", gamut.table_file())),
+        );
+        let line = if file.exists()
+            && fs::read_to_string(&key_file).ok().as_deref() == Some(key.as_str())
+        {
+            format!(
+                "{}: {res}³ table unchanged (key {key}), not refitted",
+                gamut.name()
+            )
+        } else {
+            let start = std::time::Instant::now();
+            let table = fit_table(&data.clone().with_matrix(gamut.to_xyz()), res);
+            fs::write(&file, table.to_bytes()).unwrap();
+            fs::write(&key_file, &key).unwrap();
+            format!(
+                "{}: {res}³ table fitted in {:.2} s",
+                gamut.name(),
+                start.elapsed().as_secs_f64()
+            )
+        };
+        println!("{line}");
+        times.push_str(&line);
+        times.push('\n');
+    }
+    fs::write(out.join("fit_times.txt"), times).unwrap();
 }
 
 /// Writes `spectra_files.rs`: `pub static FILES: &[(&str, &str)]`, each entry a path relative to
@@ -94,5 +150,22 @@ fn collect_txt(root: &Path, dir: &Path, files: &mut Vec<(String, PathBuf)>) {
             let key = rel.to_string_lossy().replace('\\', "/");
             files.push((key, path));
         }
+    }
+}
+
+/// FNV-1a, 64 bit: a hash that is the same on every run and toolchain (for the table cache).
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Fnv {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+
+    fn add(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ b as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+        // A separator, so ("ab", "c") and ("a", "bc") differ.
+        self.0 = (self.0 ^ 0xff).wrapping_mul(0x0100_0000_01b3);
     }
 }

@@ -6,6 +6,7 @@
 //! `uv_scale` and `uv_offset` map surface uv to texture space (uv · scale + offset).
 
 use crate::config::input_file;
+use crate::spectrum::gamut::Gamut;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 use glam::Vec2;
@@ -439,10 +440,21 @@ impl RgbImage {
 
     /// Uplifts every texel to a bounded reflectance spectrum (components clamped to [0, 1]).
     pub fn to_reflectance(&self, wrap: Wrap, filter: TexFilter, map: UvMap) -> Grid<Sigmoid> {
+        self.to_reflectance_in(Gamut::Srgb, wrap, filter, map)
+    }
+
+    /// [`RgbImage::to_reflectance`] for texels in the RGB space `gamut`.
+    pub fn to_reflectance_in(
+        &self,
+        gamut: Gamut,
+        wrap: Wrap,
+        filter: TexFilter,
+        map: UvMap,
+    ) -> Grid<Sigmoid> {
         let texels = self
             .pixels
             .iter()
-            .map(|p| rgb2spec::fetch(p.map(|c| c.clamp(0.0, 1.0))))
+            .map(|p| rgb2spec::fetch_in(gamut, p.map(|c| c.clamp(0.0, 1.0))))
             .collect();
         Grid {
             width: self.width,

@@ -96,6 +96,7 @@ impl IorConfig {
                 if matches!(
                     s,
                     SpectrumConfig::Rgb(..)
+                        | SpectrumConfig::ColourSpace(..)
                         | SpectrumConfig::Named(_)
                         | SpectrumConfig::Blackbody(_)
                 ) {

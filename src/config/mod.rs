@@ -12,6 +12,7 @@
 //! ```
 
 pub mod camera;
+pub mod colour_space;
 pub mod input_file;
 pub mod ior;
 mod parse;
@@ -634,11 +635,14 @@ pub enum EmitterConfig {
     /// An environment map (Mitsuba's `envmap`): `Envmap(filename: "textures/sky.exr", scale: 2)`.
     /// A latitude-longitude image, twice as wide as high (OpenEXR, Radiance HDR or PNG; relative
     /// to the scene file) of linear RGB radiance, +y up, uplifted per texel as an illuminant;
-    /// times `scale` (default 1); `to_world` may rotate it.
+    /// times `scale` (default 1); `to_world` may rotate it. `colour_space: "acescg"` (or
+    /// "rec2020", "display_p3"; default "srgb") names the space of its linear RGB.
     Envmap {
         filename: String,
         #[serde(default = "one")]
         scale: f32,
+        #[serde(default)]
+        colour_space: Option<String>,
         #[serde(default)]
         to_world: Vec<TransformOp>,
     },

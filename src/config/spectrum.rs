@@ -2,6 +2,7 @@
 //! what the spectrum means (a reflectance must stay within [0, 1], an emission must be ≥ 0).
 
 use crate::error::InputError;
+use crate::spectrum::gamut::Gamut;
 use crate::spectrum::{data, table, Curve};
 use crate::texture::{self, SpectralTexture, TexFilter, UvMap, Wrap};
 use glam::Vec2;
@@ -13,6 +14,9 @@ use std::path::Path;
 /// ```ron
 /// Constant(0.5)
 /// Rgb(0.8, 0.2, 0.1)                      // linear sRGB, uplifted (Jakob & Hanika 2019)
+/// ColourSpace("acescg", Rgb(0.8, 0.2, 0.1))   // linear RGB of another space: "srgb",
+///                                         // "rec2020", "display_p3", "acescg" (its own table)
+/// ColourSpace("rec2020", Bitmap(path: "wood.exr"))  // a texture in that space
 /// Tabulated([(400, 0.1), (550, 0.6), (700, 0.3)])   // (nm, value), linear in between
 /// File(path: "spectra/paint.txt")         // a table file, relative to the scene file
 /// File(path: "data/leaf.txt", column: "reflectance")
@@ -31,6 +35,9 @@ use std::path::Path;
 pub enum SpectrumConfig {
     Constant(f32),
     Rgb(f32, f32, f32),
+    /// An `Rgb` value or a `Bitmap` texture whose linear RGB is in the named space (see
+    /// `spectrum::gamut`), uplifted with that space's table.
+    ColourSpace(String, Box<SpectrumConfig>),
     Tabulated(Vec<(f32, f32)>),
     File {
         path: String,
@@ -187,6 +194,26 @@ impl SpectrumConfig {
                 color1: color1.resolve(role, ctx, warnings)?,
                 map: uv_map(ctx, *uv_scale, *uv_offset)?,
             },
+            SpectrumConfig::ColourSpace(name, inner)
+                if matches!(**inner, SpectrumConfig::Bitmap { .. }) =>
+            {
+                let gamut = super::colour_space::gamut(ctx, name)?;
+                return inner.bitmap(gamut, role, ctx, warnings);
+            }
+            SpectrumConfig::Bitmap { .. } => return self.bitmap(Gamut::Srgb, role, ctx, warnings),
+            _ => SpectralTexture::Uniform(self.resolve(role, ctx, warnings)?),
+        })
+    }
+
+    /// A `Bitmap`'s texture, its texels in the RGB space `gamut`.
+    fn bitmap(
+        &self,
+        gamut: Gamut,
+        role: Role,
+        ctx: &Context,
+        _warnings: &mut Vec<String>,
+    ) -> Result<SpectralTexture, InputError> {
+        Ok(match self {
             SpectrumConfig::Bitmap {
                 path,
                 filter,
@@ -206,13 +233,14 @@ impl SpectrumConfig {
                 })?;
                 img.validate(texture::TexelRange::Reflectance)
                     .map_err(|m| ctx.err(m))?;
-                SpectralTexture::Bitmap(Box::new(img.to_reflectance(
+                SpectralTexture::Bitmap(Box::new(img.to_reflectance_in(
+                    gamut,
                     *wrap,
                     *filter,
                     uv_map(ctx, *uv_scale, *uv_offset)?,
                 )))
             }
-            _ => SpectralTexture::Uniform(self.resolve(role, ctx, warnings)?),
+            _ => unreachable!("only called on a Bitmap"),
         })
     }
 
@@ -222,35 +250,20 @@ impl SpectrumConfig {
                 check_finite(ctx, "the value", *v)?;
                 Curve::Constant(*v)
             }
-            SpectrumConfig::Rgb(r, g, b) => {
-                let rgb = [*r, *g, *b];
-                for (c, name) in rgb.iter().zip(["red", "green", "blue"]) {
-                    check_finite(ctx, &format!("the {name} component"), *c)?;
-                    if *c < 0.0 {
-                        return Err(ctx.err(format!(
-                            "the {name} component is {c}; RGB components must be ≥ 0"
-                        )));
-                    }
-                }
-                match role {
-                    Role::Reflectance => {
-                        if rgb.iter().any(|&c| c > 1.0) {
-                            return Err(ctx
-                                .err(format!("a reflectance RGB must lie in [0, 1], got ({r}, {g}, {b})"))
-                                .hint("reflectances above 1 would create energy; divide by the largest component"));
-                        }
-                        Curve::rgb_reflectance(rgb)
-                    }
-                    Role::Emission => Curve::rgb_illuminant(rgb),
-                    Role::Response => {
+            SpectrumConfig::Rgb(r, g, b) => rgb_curve([*r, *g, *b], Gamut::Srgb, role, ctx)?,
+            SpectrumConfig::ColourSpace(name, inner) => {
+                let gamut = super::colour_space::gamut(ctx, name)?;
+                match **inner {
+                    SpectrumConfig::Rgb(r, g, b) => rgb_curve([r, g, b], gamut, role, ctx)?,
+                    SpectrumConfig::Bitmap { .. } => {
                         return Err(ctx
-                            .err("a spectral response cannot be given as RGB")
-                            .hint("write it as Tabulated, File (nm, value) or Gaussian(centre, fwhm)"))
+                            .err("a texture is not allowed here")
+                            .hint("textures vary over a surface; emitters and indices of refraction take a plain spectrum"))
                     }
-                    Role::Ior => {
+                    _ => {
                         return Err(ctx
-                            .err("an index of refraction cannot be given as RGB")
-                            .hint("write it as Constant, Tabulated or File (nm, value), or name a metal with `material`"))
+                            .err(format!("ColourSpace(\"{name}\", …) wraps an Rgb value or a Bitmap texture, not this spectrum"))
+                            .hint(format!("e.g. ColourSpace(\"{name}\", Rgb(0.7, 0.4, 0.2))")))
                     }
                 }
             }
@@ -379,6 +392,45 @@ impl SpectrumConfig {
             }
         })
     }
+}
+
+/// The curve of the RGB value `rgb` of the space `gamut`, checked for `role`.
+fn rgb_curve(rgb: [f32; 3], gamut: Gamut, role: Role, ctx: &Context) -> Result<Curve, InputError> {
+    let [r, g, b] = rgb;
+
+    for (c, name) in rgb.iter().zip(["red", "green", "blue"]) {
+        check_finite(ctx, &format!("the {name} component"), *c)?;
+        if *c < 0.0 {
+            return Err(ctx.err(format!(
+                "the {name} component is {c}; RGB components must be ≥ 0"
+            )));
+        }
+    }
+    Ok(match role {
+        Role::Reflectance => {
+            if rgb.iter().any(|&c| c > 1.0) {
+                return Err(ctx
+                    .err(format!(
+                        "a reflectance RGB must lie in [0, 1], got ({r}, {g}, {b})"
+                    ))
+                    .hint(
+                        "reflectances above 1 would create energy; divide by the largest component",
+                    ));
+            }
+            Curve::rgb_reflectance_in(gamut, rgb)
+        }
+        Role::Emission => Curve::rgb_illuminant_in(gamut, rgb),
+        Role::Response => {
+            return Err(ctx
+                .err("a spectral response cannot be given as RGB")
+                .hint("write it as Tabulated, File (nm, value) or Gaussian(centre, fwhm)"))
+        }
+        Role::Ior => return Err(ctx
+            .err("an index of refraction cannot be given as RGB")
+            .hint(
+            "write it as Constant, Tabulated or File (nm, value), or name a metal with `material`",
+        )),
+    })
 }
 
 /// A Gaussian tabulated finely enough for linear interpolation (step ≤ σ/20: relative error

@@ -44,7 +44,9 @@ pub fn rebase(mut cfg: SceneConfig, dir: &Path) -> SceneConfig {
 fn spectrum(s: &mut SpectrumConfig, abs: &impl Fn(&mut String)) {
     match s {
         SpectrumConfig::File { path, .. } | SpectrumConfig::Bitmap { path, .. } => abs(path),
-        SpectrumConfig::Scaled(_, inner) => spectrum(inner, abs),
+        SpectrumConfig::Scaled(_, inner) | SpectrumConfig::ColourSpace(_, inner) => {
+            spectrum(inner, abs)
+        }
         SpectrumConfig::Checkerboard { color0, color1, .. } => {
             spectrum(color0, abs);
             spectrum(color1, abs);

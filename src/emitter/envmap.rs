@@ -18,6 +18,7 @@
 
 use crate::math::distribution::Distribution1D;
 use crate::spectrum::curve::Dense;
+use crate::spectrum::gamut::Gamut;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
 use crate::spectrum::{Spectrum, Wavelengths};
 use crate::texture::{ImageSource, RgbImage};
@@ -57,6 +58,13 @@ impl EnvMap {
     /// Builds the map from linear RGB texels, which must be finite and ≥ 0, at least
     /// `MIN_SIZE`; `to_world` must be a rotation (orthonormal). The config checks all three.
     pub fn new(image: &RgbImage, scale: f32, to_world: Mat3) -> EnvMap {
+        EnvMap::new_in(Gamut::Srgb, image, scale, to_world)
+    }
+
+    /// [`EnvMap::new`] for texels in the RGB space `gamut` (uplifted with its table, times D65
+    /// as every input space is D65-adapted; sampling still weights cells by Rec. 709
+    /// luminance, which only shapes the pdf).
+    pub fn new_in(gamut: Gamut, image: &RgbImage, scale: f32, to_world: Mat3) -> EnvMap {
         let (w, h) = (image.width, image.height);
         assert!(w >= Self::MIN_SIZE.0 && h >= Self::MIN_SIZE.1);
         let mut sigmoids = Vec::with_capacity(w * h);
@@ -65,7 +73,10 @@ impl EnvMap {
             let m = p[0].max(p[1]).max(p[2]);
             if m > 0.0 {
                 let s = 2.0 * m;
-                sigmoids.push(rgb2spec::fetch(p.map(|c| (c / s).clamp(0.0, 1.0))));
+                sigmoids.push(rgb2spec::fetch_in(
+                    gamut,
+                    p.map(|c| (c / s).clamp(0.0, 1.0)),
+                ));
                 scales.push(s);
             } else {
                 sigmoids.push(Sigmoid::BLACK);

@@ -125,8 +125,17 @@ pub fn emitter(
         EmitterConfig::Envmap {
             filename,
             scale,
+            colour_space,
             to_world,
         } => {
+            let gamut = match colour_space {
+                Some(name) => crate::config::colour_space::by_name(
+                    file,
+                    &format!("{field}.colour_space"),
+                    name,
+                )?,
+                None => crate::spectrum::gamut::Gamut::Srgb,
+            };
             check(
                 scale.is_finite() && *scale >= 0.0,
                 file,
@@ -198,7 +207,7 @@ pub fn emitter(
                     *p = p.map(|c| c.max(0.0));
                 }
             }
-            Emitter::Envmap(Box::new(EnvMap::new(&img, *scale, m)))
+            Emitter::Envmap(Box::new(EnvMap::new_in(gamut, &img, *scale, m)))
         }
     })
 }

@@ -313,9 +313,13 @@ fn conductor(
             if let Some((a, b)) = eta.support() {
                 if a > lo || b < hi {
                     warnings.push(format!(
-                        "{}: {}: the data for `{name}` cover {a}–{b} nm only; outside them its eta and k are 0 (a perfect mirror) in the render range {lo}–{hi} nm",
+                        "{}: {}: the data for `{name}` cover {a}–{b} nm only; outside them its eta and k are 0 (a perfect mirror) in the render range {lo}–{hi} nm{}",
                         file.display(),
                         ctx("material"),
+                        match metals::covering_alternatives(name, lo, hi).as_slice() {
+                            [] => String::new(),
+                            alt => format!("; {} cover the whole range", alt.join(", ")),
+                        },
                     ));
                 }
             }

@@ -6,6 +6,7 @@
 //! adaptation, so a D65 white maps to R = G = B in every space.
 
 use crate::spectrum::color::XYZ_TO_SRGB;
+use crate::spectrum::gamut::{self, Gamut, ACES_WHITE, D65};
 use glam::{DMat3, DVec3, Mat3};
 use serde::{Deserialize, Serialize};
 
@@ -32,18 +33,6 @@ pub const ALL_SPACES: [RgbSpace; 5] = [
     RgbSpace::AcesCg,
 ];
 
-/// CIE xy of D65 as the colour spaces define it (4 digits, as in IEC 61966-2-1 and BT.2020).
-const D65: [f64; 2] = [0.3127, 0.3290];
-/// The ACES white (SMPTE ST 2065-1).
-const ACES_WHITE: [f64; 2] = [0.32168, 0.33767];
-
-/// Bradford cone response (Lam 1985, as in ICC and colour-science).
-const BRADFORD: [[f64; 3]; 3] = [
-    [0.8951, 0.2664, -0.1614],
-    [-0.7502, 1.7135, 0.0367],
-    [0.0389, -0.0685, 1.0296],
-];
-
 impl RgbSpace {
     /// The EXR layer prefix (`None`: the plain `R`, `G`, `B` channels of today's output).
     pub fn layer(self) -> Option<&'static str> {
@@ -56,17 +45,18 @@ impl RgbSpace {
         }
     }
 
-    /// Primaries (R, G, B as CIE xy) and white point.
+    /// Primaries (R, G, B as CIE xy) and white point: the input spaces' (`spectrum::gamut`,
+    /// one set of facts for both sides), and ACES2065-1's AP0, which is output only.
     fn primaries(self) -> ([[f64; 2]; 3], [f64; 2]) {
         match self {
-            RgbSpace::Srgb => ([[0.64, 0.33], [0.30, 0.60], [0.15, 0.06]], D65),
-            RgbSpace::Rec2020 => ([[0.708, 0.292], [0.170, 0.797], [0.131, 0.046]], D65),
-            RgbSpace::DisplayP3 => ([[0.680, 0.320], [0.265, 0.690], [0.150, 0.060]], D65),
+            RgbSpace::Srgb => Gamut::Srgb.primaries(),
+            RgbSpace::Rec2020 => Gamut::Rec2020.primaries(),
+            RgbSpace::DisplayP3 => Gamut::DisplayP3.primaries(),
             RgbSpace::Aces2065 => (
                 [[0.7347, 0.2653], [0.0, 1.0], [0.0001, -0.0770]],
                 ACES_WHITE,
             ),
-            RgbSpace::AcesCg => ([[0.713, 0.293], [0.165, 0.830], [0.128, 0.044]], ACES_WHITE),
+            RgbSpace::AcesCg => Gamut::AcesCg.primaries(),
         }
     }
 
@@ -88,26 +78,22 @@ impl RgbSpace {
     }
 }
 
-fn xy_to_xyz([x, y]: [f64; 2]) -> DVec3 {
-    DVec3::new(x / y, 1.0, (1.0 - x - y) / y)
+fn xy_to_xyz(xy: [f64; 2]) -> DVec3 {
+    DVec3::from_array(gamut::xy_to_xyz(xy))
 }
 
-/// The normalised primary matrix RGB → XYZ (SMPTE RP 177): columns are the primaries' XYZ,
-/// scaled so RGB = (1, 1, 1) gives the white with Y = 1.
+fn mat(m: gamut::Mat) -> DMat3 {
+    DMat3::from_cols_array_2d(&m).transpose()
+}
+
+/// The normalised primary matrix RGB → XYZ (SMPTE RP 177; `gamut::npm`).
 fn npm(p: [[f64; 2]; 3], w: [f64; 2]) -> DMat3 {
-    let cols = DMat3::from_cols(xy_to_xyz(p[0]), xy_to_xyz(p[1]), xy_to_xyz(p[2]));
-    let s = cols.inverse() * xy_to_xyz(w);
-    DMat3::from_cols(cols.x_axis * s.x, cols.y_axis * s.y, cols.z_axis * s.z)
+    mat(gamut::npm(p, w))
 }
 
-/// Bradford (von Kries in Bradford cone space) adaptation of XYZ from white `src` to `dst`.
+/// Bradford adaptation of XYZ from white `src` to `dst` (`gamut::bradford`).
 fn bradford(src: DVec3, dst: DVec3) -> DMat3 {
-    if src == dst {
-        return DMat3::IDENTITY;
-    }
-    let b = DMat3::from_cols_array_2d(&BRADFORD).transpose();
-    let (s, d) = (b * src, b * dst);
-    b.inverse() * DMat3::from_diagonal(d / s) * b
+    mat(gamut::bradford(src.to_array(), dst.to_array()))
 }
 
 #[cfg(test)]

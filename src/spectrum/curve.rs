@@ -4,6 +4,7 @@
 //! one of these variants when the scene loads, so evaluation is one `match` and a few flops.
 
 use super::color::cie1931;
+use super::gamut::Gamut;
 use super::rgb2spec::{self, Sigmoid};
 use super::sampled::Spectrum;
 use super::wavelengths::Wavelengths;
@@ -154,8 +155,13 @@ impl Curve {
 
     /// A bounded reflectance from linear sRGB in [0, 1]³.
     pub fn rgb_reflectance(rgb: [f32; 3]) -> Curve {
+        Curve::rgb_reflectance_in(Gamut::Srgb, rgb)
+    }
+
+    /// [`Curve::rgb_reflectance`] for a colour of the RGB space `gamut`.
+    pub fn rgb_reflectance_in(gamut: Gamut, rgb: [f32; 3]) -> Curve {
         Curve::Rgb {
-            sigmoid: rgb2spec::fetch(rgb),
+            sigmoid: rgb2spec::fetch_in(gamut, rgb),
             scale: 1.0,
         }
     }
@@ -163,6 +169,12 @@ impl Curve {
     /// An unbounded emitter RGB, as Mitsuba 3 and pbrt-v4 do: scale = 2·max(rgb), the sigmoid of
     /// rgb/scale (so its peak is 0.5, well inside the bounded gamut), times D65 at unit luminance.
     pub fn rgb_illuminant(rgb: [f32; 3]) -> Curve {
+        Curve::rgb_illuminant_in(Gamut::Srgb, rgb)
+    }
+
+    /// [`Curve::rgb_illuminant`] for a colour of the RGB space `gamut`. Every input space's
+    /// XYZ is D65-adapted (`gamut.rs`), so the illuminant is D65 for each.
+    pub fn rgb_illuminant_in(gamut: Gamut, rgb: [f32; 3]) -> Curve {
         let m = rgb[0].max(rgb[1]).max(rgb[2]);
         if m <= 0.0 {
             return Curve::Constant(0.0);
@@ -173,7 +185,7 @@ impl Curve {
             _ => unreachable!("the embedded D65 table is evenly spaced"),
         };
         Curve::RgbIlluminant {
-            sigmoid: rgb2spec::fetch(rgb.map(|c| c / scale)),
+            sigmoid: rgb2spec::fetch_in(gamut, rgb.map(|c| c / scale)),
             scale,
             illuminant: d65,
         }

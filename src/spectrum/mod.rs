@@ -4,6 +4,7 @@
 pub mod color;
 pub mod curve;
 pub mod data;
+pub mod gamut;
 pub mod ior;
 pub mod metals;
 pub mod rgb2spec;
@@ -11,6 +12,9 @@ pub mod rgb2spec_fit;
 pub mod sampled;
 pub mod table;
 pub mod wavelengths;
+
+#[cfg(test)]
+mod uplift_tests;
 
 pub use curve::Curve;
 pub use ior::{Ior, RelativeIor};

@@ -1,16 +1,35 @@
-//! RGB -> spectrum uplifting for reflectances (Jakob & Hanika 2019): a linear sRGB colour maps to
+//! RGB -> spectrum uplifting for reflectances (Jakob & Hanika 2019): a linear RGB colour maps to
 //! the smooth spectrum `s(λ) = S(c0 λ² + c1 λ + c2)`, `S(x) = 1/2 + x / (2 sqrt(1 + x²))`, whose
-//! colour under D65 is that sRGB colour. The coefficients come from a 64³ × 3 table fitted by
-//! `build.rs` (see `rgb2spec_fit.rs`) and interpolated trilinearly here.
+//! colour under D65 is that RGB colour. The coefficients come from a 64³ × 3 table per input
+//! space (linear sRGB, Rec. 2020, Display P3, ACEScg: `gamut.rs`) fitted by `build.rs` (see
+//! `rgb2spec_fit.rs`) and interpolated trilinearly here. A table is decoded on first use, so a
+//! scene that uses only sRGB never decodes the others.
 
+use super::gamut::Gamut;
 use super::rgb2spec_fit::CoeffTable;
 use std::sync::OnceLock;
 
-static TABLE_BYTES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/srgb_sigmoid.bin"));
+macro_rules! table_bytes {
+    ($file:literal) => {
+        include_bytes!(concat!(env!("OUT_DIR"), "/", $file))
+    };
+}
 
-fn table() -> &'static CoeffTable {
-    static TABLE: OnceLock<CoeffTable> = OnceLock::new();
-    TABLE.get_or_init(|| CoeffTable::from_bytes(TABLE_BYTES).expect("embedded sRGB sigmoid table"))
+/// The tables' bytes, in the order of `gamut::ALL_GAMUTS` (names as `Gamut::table_file`).
+static TABLE_BYTES: [&[u8]; 4] = [
+    table_bytes!("srgb_sigmoid.bin"),
+    table_bytes!("rec2020_sigmoid.bin"),
+    table_bytes!("display_p3_sigmoid.bin"),
+    table_bytes!("acescg_sigmoid.bin"),
+];
+
+fn table(gamut: Gamut) -> &'static CoeffTable {
+    static TABLES: [OnceLock<CoeffTable>; 4] = [const { OnceLock::new() }; 4];
+    let i = gamut as usize;
+    TABLES[i].get_or_init(|| {
+        CoeffTable::from_bytes(TABLE_BYTES[i])
+            .unwrap_or_else(|e| panic!("embedded {} sigmoid table: {e}", gamut.name()))
+    })
 }
 
 /// A reflectance spectrum `S(c0 λ² + c1 λ + c2)`, λ in nm; values lie in [0, 1]. The colour is
@@ -76,11 +95,16 @@ impl Sigmoid {
 /// spectrum; checked in debug builds). Exact black and white give [`Sigmoid::BLACK`] and
 /// [`Sigmoid::WHITE`].
 pub fn fetch(rgb: [f32; 3]) -> Sigmoid {
+    fetch_in(Gamut::Srgb, rgb)
+}
+
+/// [`fetch`] for a colour of the RGB space `gamut` (its table; components in [0, 1]).
+pub fn fetch_in(gamut: Gamut, rgb: [f32; 3]) -> Sigmoid {
     debug_assert!(
         rgb.iter().all(|v| (0.0..=1.0).contains(v)),
         "rgb {rgb:?} outside [0, 1]"
     );
-    let t = table();
+    let t = table(gamut);
     let res = t.res;
     let i = if rgb[0] >= rgb[1] && rgb[0] >= rgb[2] {
         0
@@ -260,7 +284,7 @@ mod tests {
 
     #[test]
     fn table_bytes_round_trip() {
-        let t = table();
+        let t = table(Gamut::Srgb);
         assert_eq!(CoeffTable::from_bytes(&t.to_bytes()).as_ref(), Ok(t));
         let mut bad = t.to_bytes();
         bad[8] ^= 1; // res no longer matches the size

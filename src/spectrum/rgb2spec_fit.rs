@@ -2,7 +2,7 @@
 //! Function Space for Efficient Spectral Upsampling" (EG 2019).
 //!
 //! A reflectance is `s(λ) = S(c0 λ² + c1 λ + c2)` with `S(x) = 1/2 + x / (2 sqrt(1 + x²))`. For a
-//! linear sRGB colour we solve for `c` so that the spectrum, lit by D65 and seen by the CIE 1931
+//! linear RGB colour (sRGB, or another space of `gamut.rs`, in its D65-adapted XYZ) we solve for `c` so that the spectrum, lit by D65 and seen by the CIE 1931
 //! 2° observer, has that colour. The residual is the CIELAB difference (perceptually even, so the
 //! solver spends its accuracy evenly across dark and bright colours), driven to zero by Newton
 //! steps on the square 3×3 system with an analytic Jacobian.
@@ -26,11 +26,7 @@ pub const XYZ_TO_SRGB: [[f64; 3]; 3] = [
 ];
 
 /// Linear sRGB -> XYZ (D65 white), the inverse of [`XYZ_TO_SRGB`].
-pub const SRGB_TO_XYZ: [[f64; 3]; 3] = [
-    [0.4124564, 0.3575761, 0.1804375],
-    [0.2126729, 0.7151522, 0.0721750],
-    [0.0193339, 0.1191920, 0.9503041],
-];
+pub use super::gamut::SRGB_TO_XYZ;
 
 /// Bound on each coefficient in the normalised wavelength variable. Black, white and the sRGB
 /// primaries are approached only as the sigmoid tends to a step, i.e. as the coefficients
@@ -66,6 +62,9 @@ pub struct FitData {
     weights: Vec<[f64; 3]>,
     /// XYZ of the illuminant itself (s = 1), the CIELAB reference white.
     white: [f64; 3],
+    /// The RGB space's RGB -> XYZ matrix: a target colour's XYZ (linear sRGB unless
+    /// [`FitData::with_matrix`] sets another).
+    to_xyz: [[f64; 3]; 3],
 }
 
 /// Result of [`FitData::fit_one`].
@@ -148,7 +147,20 @@ impl FitData {
             t,
             weights,
             white,
+            to_xyz: SRGB_TO_XYZ,
         })
+    }
+
+    /// The same data fitting colours of the RGB space whose RGB -> XYZ matrix is `to_xyz`
+    /// (XYZ relative to this illuminant: its white must be that space's white).
+    pub fn with_matrix(mut self, to_xyz: [[f64; 3]; 3]) -> FitData {
+        self.to_xyz = to_xyz;
+        self
+    }
+
+    /// XYZ of the RGB colour `rgb` of the space being fitted.
+    pub fn rgb_to_xyz(&self, rgb: [f64; 3]) -> [f64; 3] {
+        mat_vec(&self.to_xyz, rgb)
     }
 
     /// XYZ (illuminant Y = 1) of the reflectance `s` under the illuminant.
@@ -223,12 +235,12 @@ impl FitData {
         jac
     }
 
-    /// Solves for the normalised coefficients whose spectrum has linear sRGB colour `rgb`,
+    /// Solves for the normalised coefficients whose spectrum has the RGB colour `rgb`,
     /// starting from `start` (a neighbouring solution, or zeros: the flat 0.5 spectrum).
     /// Damped Newton: a step is halved until it lowers ΔE; the iteration stops at convergence,
     /// or when no step helps (a target outside the bounded model's reach, e.g. black).
     pub fn fit_one(&self, rgb: [f64; 3], start: [f64; 3]) -> Fit {
-        let target = self.lab(mat_vec(&SRGB_TO_XYZ, rgb));
+        let target = self.lab(self.rgb_to_xyz(rgb));
         let mut slopes = vec![0.0; self.t.len()];
         let mut c = bound(start);
         let mut xyz = self.xyz_and_slopes(c, &mut slopes);
