@@ -81,7 +81,10 @@ impl MeshFiles {
                     )
                 })?;
                 let degenerate = (0..mesh.indices.len())
-                    .filter(|&i| !(mesh.triangle_area(i) > 0.0))
+                    .filter(|&i| {
+                        let a = mesh.triangle_area(i);
+                        !(a > 0.0 && a.is_finite())
+                    })
                     .count();
                 check(
                     degenerate < mesh.indices.len(),

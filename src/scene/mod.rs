@@ -110,22 +110,9 @@ impl Scene {
     /// The closest surface along `ray`.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
-        let flat = self.accel.intersect(ray);
-        let (shape, local, h) = match (&self.instances, flat) {
-            (None, None) => return None,
-            (None, Some(h)) => self.flat_hit(h),
-            (Some(inst), flat) => {
-                // The instances are searched up to the flat structure's hit.
-                let mut r = *ray;
-                if let Some(h) = &flat {
-                    r.t_max = h.hit.t;
-                }
-                match (inst.intersect(&r), flat) {
-                    (Some((shape, h)), _) => (shape, h.prim, h),
-                    (None, Some(h)) => self.flat_hit(h),
-                    (None, None) => return None,
-                }
-            }
+        let (shape, local, h) = match &self.instances {
+            None => self.flat_hit(self.accel.intersect(ray)?),
+            Some(inst) => self.intersect_two_level(inst, ray)?,
         };
         let s = self.shapes[shape as usize].surface(local as usize, ray, &h.hit);
         Some(SurfaceInteraction {
@@ -140,6 +127,25 @@ impl Scene {
         })
     }
 
+    /// The closest hit of a scene with instances: the flat structure's, then the instances'
+    /// up to it. Out of line, so scenes without instances carry none of it.
+    #[inline(never)]
+    fn intersect_two_level(
+        &self,
+        inst: &crate::accel::instances::Instances,
+        ray: &Ray,
+    ) -> Option<(u32, u32, crate::accel::Hit)> {
+        let flat = self.accel.intersect(ray);
+        let mut r = *ray;
+        if let Some(h) = &flat {
+            r.t_max = h.hit.t;
+        }
+        match inst.intersect(&r) {
+            Some((shape, h)) => Some((shape, h.prim, h)),
+            None => flat.map(|h| self.flat_hit(h)),
+        }
+    }
+
     /// A flat structure's hit as (shape, its local primitive, hit).
     #[inline(always)]
     fn flat_hit(&self, h: crate::accel::Hit) -> (u32, u32, crate::accel::Hit) {
@@ -148,9 +154,17 @@ impl Scene {
     }
 
     /// True if something blocks `ray` before its `t_max`.
-    #[inline]
+    #[inline(always)]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        self.accel.occluded(ray) || self.instances.as_ref().is_some_and(|i| i.occluded(ray))
+        match &self.instances {
+            None => self.accel.occluded(ray),
+            Some(inst) => self.occluded_two_level(inst, ray),
+        }
+    }
+
+    #[inline(never)]
+    fn occluded_two_level(&self, inst: &crate::accel::instances::Instances, ray: &Ray) -> bool {
+        self.accel.occluded(ray) || inst.occluded(ray)
     }
 
     /// Scene bounds (min, max).

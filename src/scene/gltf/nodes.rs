@@ -308,6 +308,7 @@ pub struct Expanded {
 
 /// Expands shape `sc` (a `ShapeKind::Gltf`), called `field` in errors, with paths relative to
 /// `base`; `names` are the scene's material names (in index order) for overrides.
+#[allow(clippy::too_many_arguments)]
 pub fn expand(
     sc: &ShapeConfig,
     file: &Path,
