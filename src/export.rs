@@ -53,7 +53,7 @@ use std::path::Path;
 /// The files `export` writes into `dir` (checked against the scene's inputs before).
 pub fn planned_files(job: &Job, dir: &Path) -> Vec<std::path::PathBuf> {
     let meshes = job.scene.shapes.iter().enumerate();
-    let meshes = meshes.filter(|(_, s)| matches!(s, Shape::Mesh(_)));
+    let meshes = meshes.filter(|(_, s)| matches!(s, Shape::Mesh(_) | Shape::Instance(_)));
     std::iter::once(dir.join("scene.json"))
         .chain(meshes.map(|(i, _)| dir.join("meshes").join(format!("{i:04}.ply"))))
         .collect()
@@ -69,7 +69,17 @@ pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
     let cam = &scene.camera;
     let mut shapes = Vec::new();
     for (i, shape) in scene.shapes.iter().enumerate() {
+        let flat;
+        let shape = match shape {
+            // An instance is exported as its world-space copy.
+            Shape::Instance(inst) => {
+                flat = Shape::Mesh(inst.flatten());
+                &flat
+            }
+            s => s,
+        };
         let mut v = match shape {
+            Shape::Instance(_) => unreachable!("flattened above"),
             Shape::Mesh(m) => {
                 let file = dir.join("meshes").join(format!("{i:04}.ply"));
                 write_ply(m, &file)?;

@@ -9,6 +9,7 @@ mod bvh;
 mod bvh8;
 #[cfg(feature = "embree")]
 mod embree;
+pub mod instances;
 
 use crate::ray::Ray;
 use crate::shape::{PrimGeom, PrimHit};

@@ -65,6 +65,9 @@ pub struct SceneConfig {
     /// Acceleration structure: `Bvh` (default), `Embree` (needs prism built with the `embree`
     /// feature) or `BruteForce` (for testing).
     pub accel: AccelKind,
+    /// `flatten: true` copies every mesh into world space, also one used by several shapes or
+    /// glTF nodes, which by default is stored once and instanced (scenes/README.md).
+    pub flatten: bool,
     /// AOV layers beside the colour channels: `aovs: ["depth", "normal", "instance"]`
     /// (`film::aov`; scenes/README.md lists them).
     pub aovs: Vec<String>,

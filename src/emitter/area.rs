@@ -37,6 +37,11 @@ impl AreaEmitter {
                 let areas: Vec<f32> = (0..m.indices.len()).map(|i| m.triangle_area(i)).collect();
                 Some(Distribution1D::new(&areas))
             }
+            Shape::Instance(inst) => {
+                let n = inst.mesh.indices.len();
+                let areas: Vec<f32> = (0..n).map(|i| inst.triangle_area(i)).collect();
+                Some(Distribution1D::new(&areas))
+            }
             _ => None,
         };
         Self {
@@ -59,6 +64,17 @@ impl AreaEmitter {
                     p,
                     p_error,
                     n,
+                    pdf_area: 1.0 / self.area,
+                }
+            }
+            Shape::Instance(inst) => {
+                let (tri, _, ux) = self.triangles.as_ref().unwrap().sample_discrete(u.x);
+                let b = square_to_triangle(Vec2::new(ux, u.y));
+                let s = inst.surface(tri, b.x, b.y);
+                AreaSample {
+                    p: s.p,
+                    p_error: s.p_error,
+                    n: s.ng,
                     pdf_area: 1.0 / self.area,
                 }
             }

@@ -256,10 +256,13 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let mut shape_name = Vec::new();
     let mut gltf_emitters = Vec::new();
     let base = file.parent().unwrap_or(Path::new("."));
+    let mut mesh_files = super::instancing::MeshFiles::new(&cfg, base);
     for (i, sc) in cfg.shapes.iter().enumerate() {
         let field = format!("shapes[{i}]");
         if let config::ShapeKind::Gltf { .. } = sc.shape {
-            let ex = super::gltf::expand(sc, file, &field, base, &names, range, &mut warnings)?;
+            let inst = super::instancing::enabled(&cfg);
+            let ex =
+                super::gltf::expand(sc, file, &field, base, &names, range, inst, &mut warnings)?;
             super::gltf::add_shapes(
                 ex,
                 &mut materials,
@@ -272,8 +275,14 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
             );
             continue;
         }
-        let shape = geometry::shape(sc, file, &field, base, &mut warnings)?;
-        super::extent::check_shape(&shape, file, &field)?;
+        let shape = match mesh_files.instance(sc, file, &field, base, &mut warnings)? {
+            Some(instance) => instance,
+            None => {
+                let shape = geometry::shape(sc, file, &field, base, &mut warnings)?;
+                super::extent::check_shape(&shape, file, &field)?;
+                shape
+            }
+        };
         let mat = match &sc.material {
             Some(name) => match names.iter().position(|n| *n == name) {
                 Some(k) => k as u32,
@@ -366,7 +375,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
          `cargo build --release --features embree` (needs Embree 3, Debian: libembree-dev), \
          or use `accel: Bvh`",
     )?;
-    plan.prims = shapes.iter().map(|s| s.prim_count() as u64).sum();
+    plan.prims = super::instancing::unique_prims(&shapes);
     crate::resources::check(&plan, file)?;
     let mut scene = Scene::new(
         camera,

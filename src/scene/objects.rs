@@ -68,11 +68,15 @@ pub fn objects(cfg: &SceneConfig, scene: &Scene, file: &Path) -> Result<Objects,
         }
         let to_world = geometry::transform(&sc.to_world, file, &format!("shapes[{i}].to_world"))?.m;
         let shape = &scene.shapes[i];
-        let bounds = (0..shape.prim_count())
-            .map(|k| shape.prim_geom(k).bounds())
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
-                (lo.min(a), hi.max(b))
-            });
+        let bounds = match shape {
+            // Its vertices' bounds: the same box, without transforming each triangle.
+            crate::shape::Shape::Instance(inst) => inst.bounds(),
+            _ => (0..shape.prim_count())
+                .map(|k| shape.prim_geom(k).bounds())
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
+                    (lo.min(a), hi.max(b))
+                }),
+        };
         let m = scene.shape_material[i];
         list.push(Object {
             instance_id: i as u32 + 1,

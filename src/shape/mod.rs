@@ -1,6 +1,8 @@
 //! Shapes: triangle meshes (and the rectangles and cubes built from them), spheres and disks,
-//! all in world space. Each is split into primitives for the acceleration structure.
+//! all in world space (an `Instance` is a shared mesh placed by a transform, world space in what
+//! it reports). Each is split into primitives for the acceleration structure.
 
+pub mod instance;
 pub mod mesh;
 pub mod mesh_io;
 pub mod normal_map;
@@ -9,6 +11,7 @@ pub mod triangle;
 use crate::math::float::gamma;
 use crate::math::{sampling, Frame, Transform};
 use glam::{Vec2, Vec3};
+pub use instance::Instance;
 pub use mesh::Mesh;
 use std::f32::consts::PI;
 
@@ -32,6 +35,8 @@ pub enum Shape {
     Mesh(Mesh),
     Sphere(Sphere),
     Disk(Disk),
+    /// A shared mesh placed by a transform (one of its several uses; `shape::instance`).
+    Instance(Instance),
 }
 
 /// Geometry of one primitive, as the acceleration structure stores it (compact and
@@ -193,6 +198,7 @@ impl Shape {
     pub fn prim_count(&self) -> usize {
         match self {
             Shape::Mesh(m) => m.indices.len(),
+            Shape::Instance(i) => i.mesh.indices.len(),
             _ => 1,
         }
     }
@@ -200,6 +206,7 @@ impl Shape {
     pub fn prim_geom(&self, i: usize) -> PrimGeom {
         match self {
             Shape::Mesh(m) => PrimGeom::Triangle(m.vertices(i)),
+            Shape::Instance(inst) => PrimGeom::Triangle(inst.vertices(i)),
             Shape::Sphere(s) => PrimGeom::Sphere {
                 center: s.center,
                 radius: s.radius,
@@ -219,6 +226,10 @@ impl Shape {
         match self {
             Shape::Mesh(m) => {
                 let a = m.triangle_area(i);
+                !(a > 0.0 && a.is_finite())
+            }
+            Shape::Instance(inst) => {
+                let a = inst.triangle_area(i);
                 !(a > 0.0 && a.is_finite())
             }
             Shape::Sphere(s) => !(s.radius > 0.0 && s.radius.is_finite() && s.center.is_finite()),
@@ -243,6 +254,16 @@ impl Shape {
                     uv: s.uv,
                 }
             }
+            Shape::Instance(inst) => {
+                let s = inst.surface(prim, hit.b1, hit.b2);
+                SurfacePoint {
+                    p: s.p,
+                    p_error: s.p_error,
+                    ng: s.ng,
+                    frame: s.frame,
+                    uv: s.uv,
+                }
+            }
             Shape::Sphere(s) => s.surface_at(ray.at(hit.t)),
             Shape::Disk(d) => d.surface_at(Vec2::new(hit.b1, hit.b2)),
         }
@@ -251,6 +272,9 @@ impl Shape {
     pub fn area(&self) -> f32 {
         match self {
             Shape::Mesh(m) => (0..m.indices.len()).map(|i| m.triangle_area(i)).sum(),
+            Shape::Instance(inst) => (0..inst.mesh.indices.len())
+                .map(|i| inst.triangle_area(i))
+                .sum(),
             Shape::Sphere(s) => 4.0 * PI * s.radius * s.radius,
             Shape::Disk(d) => {
                 PI * d

@@ -15,7 +15,7 @@
 //! (576 pixels high by default). Orthographic cameras become prism's `Orthographic` model,
 //! 2·xmag wide, with aspect xmag / ymag.
 
-use super::nodes::walk;
+use super::nodes::walk_with;
 use crate::camera::FovAxis;
 use crate::config::{
     CameraConfig, CameraModel, EmitterConfig, FilmConfig, SceneConfig, ShapeConfig, ShapeKind,
@@ -174,7 +174,7 @@ pub fn scene_config(path: &Path) -> Result<(SceneConfig, Vec<String>), InputErro
 pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), InputError> {
     let path = model.path.as_path();
     let mut warnings = Vec::new();
-    let w = walk(model, Mat4::IDENTITY, &mut warnings)?;
+    let w = walk_with(model, Mat4::IDENTITY, true, &mut warnings)?;
     let mut cfg = SceneConfig::default();
     let perspective = w.cameras.iter().find(|c| c.config.is_some());
     match perspective {

@@ -26,6 +26,9 @@ pub struct Primitive {
     pub source: (usize, usize),
     /// Per-vertex tangents (xyz, w = bitangent sign), world space, if the file has them.
     pub tangents: Vec<[f32; 4]>,
+    /// The shared mesh and its placement, where the mesh is instanced (`walk_with`); `mesh`
+    /// and `tangents` are then empty.
+    pub instance: Option<crate::shape::Instance>,
 }
 
 /// What the walk over the default scene finds.
@@ -41,11 +44,30 @@ pub struct Walk {
 }
 
 /// A local mesh read once per (mesh, primitive), with its tangents.
-type LocalMesh = (Mesh, Vec<[f32; 4]>);
+type LocalMesh = (std::sync::Arc<Mesh>, Vec<[f32; 4]>);
 
-/// Walks the default scene (or the first, if the file names none) under `to_world`.
+/// Walks the default scene (or the first, if the file names none) under `to_world`, every
+/// primitive copied into world space.
 pub fn walk(model: &Model, to_world: Mat4, warnings: &mut Vec<String>) -> Result<Walk, InputError> {
+    walk_with(model, to_world, false, warnings)
+}
+
+/// As `walk`; with `instancing`, a mesh under several nodes is not copied but instanced
+/// (`Primitive::instance`), unless its material emits or is normal-mapped (those need
+/// world-space triangles and tangents).
+pub fn walk_with(
+    model: &Model,
+    to_world: Mat4,
+    instancing: bool,
+    warnings: &mut Vec<String>,
+) -> Result<Walk, InputError> {
     let path = &model.path;
+    let mut uses = vec![0usize; model.doc.meshes().len()];
+    for n in model.doc.nodes() {
+        if let Some(m) = n.mesh() {
+            uses[m.index()] += 1;
+        }
+    }
     let scene = model
         .doc
         .default_scene()
@@ -116,7 +138,34 @@ pub fn walk(model: &Model, to_world: Mat4, warnings: &mut Vec<String>) -> Result
                 let Some((local_mesh, tangents)) = &cache[&key] else {
                     continue;
                 };
-                let mut m = local_mesh.clone().transformed(&t, false);
+                let material = prim.material();
+                if instancing
+                    && uses[mesh.index()] > 1
+                    && material.emissive_factor().iter().all(|&c| c == 0.0)
+                    && material.emissive_texture().is_none()
+                    && material.normal_texture().is_none()
+                {
+                    for p in &local_mesh.positions {
+                        let p = t.point(*p);
+                        let b = w.bounds.get_or_insert((p, p));
+                        *b = (b.0.min(p), b.1.max(p));
+                    }
+                    w.primitives.push(Primitive {
+                        mesh: Mesh::default(),
+                        material: material.index(),
+                        source: key,
+                        name: name.clone(),
+                        tangents: Vec::new(),
+                        instance: Some(crate::shape::Instance {
+                            mesh: local_mesh.clone(),
+                            to_world: t,
+                            negate_normals: false,
+                            swap_winding: mirror,
+                        }),
+                    });
+                    continue;
+                }
+                let mut m = Mesh::clone(local_mesh).transformed(&t, false);
                 if mirror {
                     m.indices.iter_mut().for_each(|tri| tri.swap(1, 2));
                 }
@@ -138,6 +187,7 @@ pub fn walk(model: &Model, to_world: Mat4, warnings: &mut Vec<String>) -> Result
                     source: key,
                     name: name.clone(),
                     tangents,
+                    instance: None,
                 });
             }
         }
@@ -227,7 +277,7 @@ fn read_primitive(
             .field(&field)
             .hint("the accessors of this primitive disagree; re-export the model")
     })?;
-    Ok(Some((mesh, tangents)))
+    Ok(Some((std::sync::Arc::new(mesh), tangents)))
 }
 
 /// A material reference of an expanded shape.
@@ -258,6 +308,7 @@ pub struct Expanded {
 
 /// Expands shape `sc` (a `ShapeKind::Gltf`), called `field` in errors, with paths relative to
 /// `base`; `names` are the scene's material names (in index order) for overrides.
+#[allow(clippy::too_many_arguments)]
 pub fn expand(
     sc: &ShapeConfig,
     file: &Path,
@@ -265,6 +316,7 @@ pub fn expand(
     base: &Path,
     names: &[&String],
     range: (f32, f32),
+    instancing: bool,
     warnings: &mut Vec<String>,
 ) -> Result<Expanded, InputError> {
     let ShapeKind::Gltf {
@@ -287,7 +339,8 @@ pub fn expand(
             full.display()
         ));
     }
-    let walk = walk(&model, t.m, warnings)?;
+    // An `emitter` on the include makes every shape an area light: no instances then.
+    let walk = walk_with(&model, t.m, instancing && sc.emitter.is_none(), warnings)?;
     let lookup = |name: &str, f: String| -> Result<u32, InputError> {
         names
             .iter()
@@ -366,8 +419,26 @@ pub fn expand(
                 (MatRef::New(k), emission, normal_map)
             }
         };
+        let emission = area.clone().or(emission);
         let mut mesh = p.mesh;
-        if sc.flip_normals {
+        if let Some(mut inst) = p.instance {
+            if sc.flip_normals {
+                inst.negate_normals = !inst.negate_normals;
+                inst.swap_winding = !inst.swap_winding;
+            }
+            if emission.is_none() && normal_map.is_none() {
+                out.shapes.push(ExpandedShape {
+                    shape: Shape::Instance(inst),
+                    material,
+                    emission,
+                    name: Some(p.name),
+                });
+                continue;
+            }
+            // The walk instances only meshes whose material neither emits nor maps normals;
+            // should one (an override's) need world-space triangles, it gets its copy.
+            mesh = inst.flatten();
+        } else if sc.flip_normals {
             mesh = mesh.transformed(&Transform::IDENTITY, true);
         }
         if let Some(map) = normal_map {
@@ -390,7 +461,7 @@ pub fn expand(
         out.shapes.push(ExpandedShape {
             shape: Shape::Mesh(mesh),
             material,
-            emission: area.clone().or(emission),
+            emission,
             name: Some(p.name),
         });
     }

@@ -1,0 +1,113 @@
+//! A mesh placed in the world by a transform without being copied: one of several uses of the
+//! same mesh (a RON mesh file named by several shapes, a glTF mesh under several nodes). The
+//! mesh stays in object space, shared; the acceleration structure traces it once
+//! (`accel::instances`) and each instance computes its hits' surface data in world space from
+//! its three vertices transformed on the fly, with the same arithmetic as the world-space copy
+//! the single-use path makes (`Mesh::transformed`), so both shade alike.
+
+use super::mesh::{Mesh, Tri, TriangleSurface};
+use crate::math::float::gamma;
+use crate::math::Transform;
+use glam::{Mat3, Vec3};
+use std::sync::Arc;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instance {
+    /// The shared mesh, in object space (never normal-mapped: such meshes are copied).
+    pub mesh: Arc<Mesh>,
+    pub to_world: Transform,
+    /// Negate the transformed shading normals (`flip_normals`).
+    pub negate_normals: bool,
+    /// Reverse the winding (`flip_normals`, or a glTF node that mirrors, glTF 2.0 §3.7.4).
+    pub swap_winding: bool,
+}
+
+impl Instance {
+    /// The world-space copy the single-use path would make of this instance.
+    pub fn flatten(&self) -> Mesh {
+        let mut m = Mesh::clone(&self.mesh).transformed(&self.to_world, false);
+        if self.negate_normals {
+            m.normals.iter_mut().for_each(|n| *n = -*n);
+        }
+        if self.swap_winding {
+            m.indices.iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        m
+    }
+
+    /// Triangle `i`'s object-space vertex indices in world order (the winding swapped when
+    /// `swap_winding`).
+    #[inline]
+    fn order(&self, i: usize) -> [usize; 3] {
+        let [a, b, c] = self.mesh.indices[i].map(|v| v as usize);
+        if self.swap_winding {
+            [a, c, b]
+        } else {
+            [a, b, c]
+        }
+    }
+
+    /// Triangle `i` in world space: the values `Mesh::transformed` gives its vertices.
+    #[inline]
+    pub fn tri(&self, i: usize) -> Tri {
+        let idx = self.order(i);
+        let m = &self.mesh;
+        let t = &self.to_world;
+        let normal = |k: usize| {
+            let n = t.normal(m.normals[k]).normalize_or_zero();
+            if self.negate_normals {
+                -n
+            } else {
+                n
+            }
+        };
+        Tri {
+            idx,
+            p: idx.map(|k| t.point(m.positions[k])),
+            n: (!m.normals.is_empty()).then(|| idx.map(normal)),
+            uv: (!m.uvs.is_empty()).then(|| idx.map(|k| m.uvs[k])),
+        }
+    }
+
+    #[inline]
+    pub fn vertices(&self, i: usize) -> [Vec3; 3] {
+        self.order(i)
+            .map(|k| self.to_world.point(self.mesh.positions[k]))
+    }
+
+    pub fn triangle_area(&self, i: usize) -> f32 {
+        let [a, b, c] = self.vertices(i);
+        0.5 * (b - a).cross(c - a).length()
+    }
+
+    /// World bounds of the vertices (min, max).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.mesh
+            .positions
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+                let p = self.to_world.point(p);
+                (lo.min(p), hi.max(p))
+            })
+    }
+
+    /// Surface data at barycentrics (b1, b2) of the object-space triangle `i` (in the mesh's
+    /// own winding, as the object-space intersection reports them).
+    #[inline]
+    pub fn surface(&self, i: usize, b1: f32, b2: f32) -> TriangleSurface {
+        let (b1, b2) = if self.swap_winding {
+            (b2, b1)
+        } else {
+            (b1, b2)
+        };
+        let mut s = self.tri(i).surface(None, b1, b2);
+        // Rays leaving this point are traced in object space: the world-to-object transform of
+        // their origin adds rounding error (γ3 per component, PBR 4th ed. §6.8.4), mapped back
+        // to world space, which the origin's offset must clear too.
+        let (m, inv) = (&self.to_world.m, &self.to_world.inv);
+        let inv_abs = Mat3::from_mat4(*inv).abs();
+        let e_obj = gamma(3) * (inv_abs * s.p.abs() + inv.w_axis.truncate().abs());
+        s.p_error += (1.0 + gamma(3)) * (Mat3::from_mat4(*m).abs() * e_obj);
+        s
+    }
+}
