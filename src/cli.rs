@@ -171,15 +171,30 @@ where
     }
 }
 
+/// The worker threads of `--threads N` (default: one per core), for every subcommand that
+/// renders; `--threads 0` is refused naming `file` (the scene or config the command was given).
+pub fn worker_pool(threads: Option<usize>, file: &Path) -> Result<rayon::ThreadPool, Error> {
+    if threads == Some(0) {
+        return Err(
+            crate::error::InputError::new(file, "--threads must be at least 1")
+                .field("--threads")
+                .hint("give a positive number, or leave --threads out for one thread per core")
+                .into(),
+        );
+    }
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = threads {
+        b = b.num_threads(t);
+    }
+    b.build()
+        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))
+}
+
 fn render(args: &RenderArgs) -> Result<(), Error> {
     if args.spp == Some(0) {
         return Err(crate::error::InputError::new(&args.scene, "--spp must be at least 1").into());
     }
-    if let Some(0) = args.threads {
-        return Err(
-            crate::error::InputError::new(&args.scene, "--threads must be at least 1").into(),
-        );
-    }
+    let pool = worker_pool(args.threads, &args.scene)?;
     if !args.exposure.is_finite() {
         return Err(crate::error::InputError::new(
             &args.scene,
@@ -261,14 +276,6 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
             .into());
         }
     }
-    let pool = {
-        let mut b = rayon::ThreadPoolBuilder::new();
-        if let Some(t) = args.threads {
-            b = b.num_threads(t);
-        }
-        b.build()
-            .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?
-    };
     let s = &job.settings;
     let total = s.width as u64 * s.height as u64 * s.spp as u64;
     let reporter = Reporter::new(total, args.quiet);

@@ -434,6 +434,11 @@ fn bad_input_is_refused_before_any_frame_renders() {
         &["--shard"],
     );
     assert!(!dir.join("s").exists());
+    refused(
+        &dataset(&cfg, &dir.join("t"), &["--threads", "0"]),
+        &["dataset.ron: --threads", "at least 1"],
+    );
+    assert!(!dir.join("t").exists());
     // --force starts the dataset over.
     ok(&dataset(&cfg2, &out, &["--force", "--frames", "0"]));
     assert_eq!(manifest(&out), vec![0]);
@@ -615,4 +620,64 @@ fn bad_sensor_variations_are_refused_before_any_frame_renders() {
         refused(&dataset(&cfg, &out, &[]), needles);
         assert!(!out.exists(), "{name}: the output folder was made");
     }
+}
+
+/// `dataset.json` holds the SHA-256 of every file the dataset reads: a resume after a texture
+/// changed is refused naming the texture (exit 2, nothing rendered or removed), `--force`
+/// starts over, and unchanged files resume.
+#[test]
+fn a_changed_texture_refuses_the_resume_naming_the_file() {
+    let dir = workdir("assets");
+    let ds = root().join("configs/datasets");
+    let base = std::fs::read_to_string(ds.join("scenes/tabletop.ron"))
+        .unwrap()
+        .replace(
+            "\"../../../scenes/textures/sky.exr\"",
+            &format!("{:?}", root().join("scenes/textures/sky.exr")),
+        )
+        .replace(
+            "Diffuse(reflectance: Rgb(0.45, 0.28, 0.15))",
+            "Diffuse(reflectance: Bitmap(path: \"wood.png\"))",
+        );
+    assert!(base.contains("wood.png"));
+    std::fs::write(dir.join("base.ron"), base).unwrap();
+    let textures = root().join("scenes/textures");
+    std::fs::copy(textures.join("grid.png"), dir.join("wood.png")).unwrap();
+    let cfg = config(&dir, |t| {
+        t.replace(
+            &format!("{:?}", ds.join("scenes/tabletop.ron")),
+            &format!("{:?}", dir.join("base.ron")),
+        )
+    });
+    let out = dir.join("out");
+    ok(&dataset(&cfg, &out, &["--frames", "0"]));
+    let identity: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("dataset.json")).unwrap()).unwrap();
+    let inputs = identity["inputs"].as_object().unwrap();
+    assert!(
+        inputs.contains_key("wood.png") && inputs.keys().any(|k| k.ends_with("sky.exr")),
+        "{inputs:?}"
+    );
+    // Unchanged: the rerun resumes.
+    let o = dataset(&cfg, &out, &["--frames", "0..2"]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("1 rendered, 1 skipped"), "{err}");
+    // Changed: refused, naming the file, the folder as it was.
+    std::fs::copy(textures.join("leaf_alpha.png"), dir.join("wood.png")).unwrap();
+    let before = frames(&out);
+    refused(
+        &dataset(&cfg, &out, &[]),
+        &[
+            "holds another dataset",
+            "the contents of the input file `wood.png`",
+            "--force",
+        ],
+    );
+    assert!(frames(&out) == before);
+    assert_eq!(manifest(&out), vec![0, 1]);
+    // --force starts over with the new texture.
+    ok(&dataset(&cfg, &out, &["--force", "--frames", "0"]));
+    assert_eq!(manifest(&out), vec![0]);
+    assert!(frames(&out)["000000.exr"] != before["000000.exr"]);
 }

@@ -3,6 +3,7 @@
 
 use super::config::{DatasetConfig, LookAtVariation, Range, ReflectanceSource};
 use super::library;
+use crate::config::sensor::{SensorField, SensorFile};
 use crate::config::{EmitterConfig, MaterialConfig, SceneConfig};
 use crate::error::{Error, InputError};
 use glam::Vec3;
@@ -23,6 +24,9 @@ pub struct Base {
     pub names: BTreeMap<String, usize>,
     /// The base scene as built at load, for the first frame's geometry (`GeometryCache::seed`).
     pub built: Option<crate::scene::Job>,
+    /// Every other file the dataset reads (the base scene's meshes, textures, spectra and
+    /// envmap; the variations' envmaps and sensor files), whose contents `dataset.json` hashes.
+    pub inputs: Vec<PathBuf>,
 }
 
 /// Where a light variation points.
@@ -50,8 +54,13 @@ impl Base {
             .hint("give the scene file's path relative to the dataset config")
             .into());
         }
-        let scene = crate::config::parse_file(&scene_file)?;
-        let job = crate::scene::build(scene.clone(), &scene_file)?;
+        // The files the load reads (meshes, textures, spectra, the envmap), for `dataset.json`.
+        let (loaded, read) = crate::scene::inputs::collect(|| -> Result<_, Error> {
+            let scene = crate::config::parse_file(&scene_file)?;
+            let job = crate::scene::build(scene.clone(), &scene_file)?;
+            Ok((scene, job))
+        });
+        let (scene, job) = loaded?;
         let bounds = job.scene.shapes.iter().map(shape_bounds).collect();
         let mut names = BTreeMap::new();
         for (i, s) in scene.shapes.iter().enumerate() {
@@ -67,7 +76,20 @@ impl Base {
                 }
             }
         }
-        let base = Base {
+        // The two configs are hashed as parsed (a comment does not change the dataset).
+        let mut inputs: Vec<PathBuf> = read.iter().filter(|p| **p != scene_file).cloned().collect();
+        let variation_files = config
+            .envmap
+            .iter()
+            .flat_map(|e| &e.files)
+            .chain(config.sensor.iter().flat_map(|s| s.files.iter().flatten()));
+        for f in variation_files {
+            let p = dir.join(f);
+            if !inputs.contains(&p) {
+                inputs.push(p);
+            }
+        }
+        let mut base = Base {
             config,
             file: file.to_path_buf(),
             scene_file,
@@ -75,8 +97,14 @@ impl Base {
             bounds,
             names,
             built: Some(job),
+            inputs,
         };
         base.check()?;
+        for p in base.sensor_inputs()? {
+            if !base.inputs.contains(&p) {
+                base.inputs.push(p);
+            }
+        }
         Ok(base)
     }
 
@@ -185,6 +213,33 @@ impl Base {
             self.range("sensor.exposure", e, -64.0, 64.0, "exposure in stops")?;
         }
         Ok(())
+    }
+
+    /// The files the variations' sensor files read in turn (spectra they name), set up as a
+    /// frame would (`check_sensor` has read each file already).
+    fn sensor_inputs(&self) -> Result<Vec<PathBuf>, InputError> {
+        let dir = self.file.parent().unwrap_or(Path::new("."));
+        let files = self
+            .config
+            .sensor
+            .iter()
+            .flat_map(|s| s.files.iter().flatten());
+        let mut all = Vec::new();
+        for f in files {
+            let field = SensorField::File(SensorFile::File(super::plan::absolute(&dir.join(f))));
+            let (r, read) = crate::scene::inputs::collect(|| {
+                crate::sensor::setup::build(
+                    Some(&field),
+                    &Default::default(),
+                    &self.scene_file,
+                    self.scene.spectral.range,
+                    &mut Vec::new(),
+                )
+            });
+            r?;
+            all.extend(read);
+        }
+        Ok(all)
     }
 
     fn check(&self) -> Result<(), InputError> {

@@ -48,21 +48,7 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
         .map(|s| parse_frames(s, &args.config))
         .transpose()?;
     let shard = shard(args, &|k| std::env::var(k).ok())?;
-    if let Some(0) = args.threads {
-        return Err(arg_error(
-            &args.config,
-            "--threads",
-            "--threads must be at least 1",
-        ));
-    }
-    let pool = {
-        let mut b = rayon::ThreadPoolBuilder::new();
-        if let Some(t) = args.threads {
-            b = b.num_threads(t);
-        }
-        b.build()
-            .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?
-    };
+    let pool = crate::cli::worker_pool(args.threads, &args.config)?;
     let opts = Options {
         frames,
         shard,

@@ -262,6 +262,20 @@ pub fn hex(b: &[u8]) -> String {
 /// The paths where `a` and `b` differ, as `path: old → new`.
 fn diff(a: &Value, b: &Value, path: &str, out: &mut Vec<String>) {
     match (a, b) {
+        // The input files' hashes: name the file, not its hash.
+        (Value::Object(x), Value::Object(y)) if path == "inputs" => {
+            let keys: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
+            for k in keys {
+                match (x.get(k), y.get(k)) {
+                    (Some(u), Some(v)) if u != v => {
+                        out.push(format!("the contents of the input file `{k}`"))
+                    }
+                    (None, Some(_)) => out.push(format!("a new input file `{k}`")),
+                    (Some(_), None) => out.push(format!("the input file `{k}` is no longer read")),
+                    _ => {}
+                }
+            }
+        }
         (Value::Object(x), Value::Object(y)) => {
             let keys: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
             for k in keys {

@@ -5,6 +5,7 @@
 //! can ask for comes along. configs/README.md documents the config and the output folder.
 
 pub mod apply;
+pub mod assets;
 pub mod base;
 pub mod cli;
 pub mod config;

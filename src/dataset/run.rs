@@ -36,19 +36,22 @@ pub struct Summary {
     pub seconds: f64,
 }
 
-/// The identity of a dataset in `dataset.json`: its config, its base scene and prism's version,
-/// with a hash of the first two.
-pub fn identity(base: &Base) -> serde_json::Value {
+/// The identity of a dataset in `dataset.json`: its config, its base scene, the SHA-256 of
+/// every other file it reads (`inputs`, by path relative to the config) and prism's version,
+/// with a hash of the first three.
+pub fn identity(base: &Base) -> Result<serde_json::Value, Error> {
     let config = serde_json::to_value(&base.config).expect("configs serialise");
     let scene = serde_json::to_value(&base.scene).expect("configs serialise");
-    let canon = serde_json::to_string(&json!({"config": config, "scene": scene}))
+    let inputs = super::assets::hashes(base)?;
+    let canon = serde_json::to_string(&json!({"config": config, "scene": scene, "inputs": inputs}))
         .expect("JSON values serialise");
-    json!({
+    Ok(json!({
         "prism_version": env!("CARGO_PKG_VERSION"),
         "hash": super::manifest::hex(&Sha256::digest(canon.as_bytes())),
         "config": config,
         "scene": scene,
-    })
+        "inputs": inputs,
+    }))
 }
 
 /// The frames this process renders: the range, then this shard's share of it.
@@ -91,7 +94,7 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     let out = Out {
         root: out.to_path_buf(),
     };
-    out.prepare(&identity(&base), opts.force, file)?;
+    out.prepare(&identity(&base)?, opts.force, file)?;
     let scene_dir = base
         .scene_file
         .parent()

@@ -35,6 +35,7 @@ impl At<'_> {
 
 /// Reads a sensor file (RON, a `SensorConfig`).
 pub fn read_file(path: &Path) -> Result<SensorConfig, InputError> {
+    crate::scene::inputs::record(path);
     let text = std::fs::read_to_string(path).map_err(|e| {
         InputError::new(path, format!("cannot read the sensor file: {e}"))
             .hint("sensor files are relative to the scene file (`--sensor` paths to the current directory)")

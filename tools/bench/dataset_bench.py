@@ -1,14 +1,24 @@
 """Benchmark of `prism dataset` (issue 17, item 7; not a test).
 
-1. Per-frame overhead: the dataset run's wall time per frame against `prism render` of the same
-   frames exported with `--export-frame` (each a lone process: parse, build, render, write).
-2. Frames per hour of the dataset run.
-3. Peak RSS (the child's ru_maxrss from wait4) of a run of `--rss-long`
-   frames against one of `--rss-short` frames.
+1. Per-frame overhead of a dataset run over a lone `prism render` of the same frame. The
+   dataset's frames run in chunks of `--chunk` frames (`--frames lo..hi` into one output
+   folder, which resumes it); after each chunk its first frame, exported beforehand with
+   `--export-frame`, is rendered alone (`prism render ... --preview`, the dataset's outputs).
+   The interleaving cancels the drift of a shared machine's load. Reported:
+   - paired wall time: the frame's seconds inside the dataset run (manifest: build, render,
+     write) against the lone process's wall time for the same frame;
+   - CPU (user + system, from wait4, less load-sensitive than wall time): the chunked dataset
+     run's CPU per frame (all frames, each chunk paying one process start and scene load)
+     against the lone renders' mean CPU per frame (the sampled frames).
+2. Frames per hour of the dataset run (the chunks' wall and CPU time together).
+3. Peak RSS (the child's ru_maxrss from wait4) of an uninterrupted run of `--rss-long` frames
+   against one of `--rss-short` frames.
 
-Full size (the issue's): --frames 200 --size 128 --spp 16 --rss-long 1000 --rss-short 10.
+Full size (the issue's): --frames 200 --size 128 --spp 16 --rss-long 1000 --rss-short 10
+(the defaults; --rss-spp 1 keeps the RSS runs short). configs/README.md has the figures.
 Run: tools/.venv/bin/python tools/bench/dataset_bench.py [--frames N --size S --spp P ...]
-The base is configs/datasets/smoke.ron with its resolution and spp replaced.
+The base is configs/datasets/smoke.ron (the tabletop scene, every kind of variation) with its
+frame count, resolution and spp replaced.
 """
 
 from __future__ import annotations
@@ -25,15 +35,15 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
-def run(cmd: list[str]) -> tuple[float, int]:
-    """(wall seconds, peak RSS of the child in MiB)."""
+def run(cmd: list[str]) -> dict:
+    """Wall seconds, CPU seconds (user + system) and peak RSS (MiB) of a child process."""
     t = time.perf_counter()
     p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     _, status, ru = os.wait4(p.pid, 0)
     wall = time.perf_counter() - t
     if status != 0:
         raise RuntimeError(f"{cmd}: {p.stderr.read().decode()}")
-    return wall, ru.ru_maxrss // 1024
+    return {"wall": wall, "user": ru.ru_utime, "cpu": ru.ru_utime + ru.ru_stime, "rss": ru.ru_maxrss / 1024}
 
 
 def config(tmp: pathlib.Path, frames: int, size: int, spp: int) -> pathlib.Path:
@@ -43,54 +53,71 @@ def config(tmp: pathlib.Path, frames: int, size: int, spp: int) -> pathlib.Path:
     text = text.replace('"../../scenes/textures/sky.exr"', json.dumps(str(ROOT / "scenes" / "textures" / "sky.exr")))
     text = text.replace("frames: 8,", f"frames: {frames},")
     text = text.replace("spp: 8, resolution: (64, 48)", f"spp: {spp}, resolution: ({size}, {size})")
-    p = tmp / f"bench_{frames}.ron"
+    p = tmp / f"bench_{frames}_{size}_{spp}.ron"
     p.write_text(text)
     return p
+
+
+def load() -> str:
+    return " ".join(f"{x:.1f}" for x in os.getloadavg())
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--frames", type=int, default=200)
-    ap.add_argument("--lone", type=int, default=20, help="frames also rendered alone")
+    ap.add_argument("--chunk", type=int, default=10, help="dataset frames per process; the first of each is rendered alone")
     ap.add_argument("--size", type=int, default=128)
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--rss-short", type=int, default=10)
     ap.add_argument("--rss-long", type=int, default=1000)
     ap.add_argument("--rss-size", type=int, default=None, help="image size of the RSS runs (default --size)")
     ap.add_argument("--rss-spp", type=int, default=None)
+    ap.add_argument("--skip-rss", action="store_true")
     a = ap.parse_args()
     prism = os.environ.get("PRISM_BIN", str(ROOT / "target" / "release" / "prism"))
     tmp = pathlib.Path(tempfile.mkdtemp(prefix="prism-dataset-bench-"))
     try:
         cfg = config(tmp, a.frames, a.size, a.spp)
         out = tmp / "out"
-        wall, _ = run([prism, "dataset", str(cfg), "-o", str(out), "-q"])
-        per = wall / a.frames
-        lone = []
-        for i in range(a.lone):
+        starts = list(range(0, a.frames, a.chunk))
+        for i in starts:
             run([prism, "dataset", str(cfg), "-o", str(tmp / "export"), "--export-frame", str(i), "-q"])
+        print(f"load average before: {load()}", flush=True)
+        chunks, lone = [], []
+        for i in starts:
+            hi = min(i + a.chunk, a.frames)
+            chunks.append(run([prism, "dataset", str(cfg), "-o", str(out), "--frames", f"{i}..{hi}", "-q"]))
             scene = tmp / "export" / "frames" / f"{i:06d}.ron"
-            w, _ = run([prism, "render", str(scene), "-o", str(tmp / "lone.exr"), "-q",
-                        "--preview", str(tmp / "lone.png")])
-            lone.append(w)
-        lone_mean = sum(lone) / len(lone)
-        # The same frames' share of the dataset run (from the manifest's per-frame seconds,
-        # which time plan + build + render + write inside the one process).
-        lines = [json.loads(x) for x in (out / "manifest.jsonl").read_text().splitlines()]
-        in_run = sum(e["seconds"] for e in lines if e["frame"] < a.lone) / a.lone
-        print(f"dataset: {a.frames} frames {a.size}x{a.size} {a.spp} spp in {wall:.1f} s: {per:.3f} s/frame, "
-              f"{3600 / per:.0f} frames/hour")
-        print(f"lone `prism render` of frames 0..{a.lone}: {lone_mean:.3f} s/frame (process wall); "
-              f"the same frames inside the dataset run: {in_run:.3f} s/frame; "
-              f"dataset wall per frame / lone: {per / lone_mean:.3f}")
+            lone.append(run([prism, "render", str(scene), "-o", str(tmp / "lone.exr"), "-q",
+                             "--preview", str(tmp / "lone.png")]))
+            print(f"  frames {i}..{hi}: dataset {chunks[-1]['wall']:.1f} s wall {chunks[-1]['cpu']:.2f} s CPU; "
+                  f"lone frame {i}: {lone[-1]['wall']:.2f} s wall {lone[-1]['cpu']:.2f} s CPU; load {load()}", flush=True)
+        print(f"load average after: {load()}")
+        lines = {e["frame"]: e for e in map(json.loads, (out / "manifest.jsonl").read_text().splitlines())}
+        assert sorted(lines) == list(range(a.frames)), "every frame listed once"
+        n = len(starts)
+        in_run = sum(lines[i]["seconds"] for i in starts) / n
+        lone_wall = sum(x["wall"] for x in lone) / n
+        lone_cpu = sum(x["cpu"] for x in lone) / n
+        ds_wall = sum(x["wall"] for x in chunks)
+        ds_cpu = sum(x["cpu"] for x in chunks)
+        print(f"dataset: {a.frames} frames {a.size}x{a.size} {a.spp} spp in {n} processes of {a.chunk}: "
+              f"{ds_wall:.1f} s wall ({ds_wall / a.frames:.3f} s/frame, {3600 * a.frames / ds_wall:.0f} frames/hour), "
+              f"{ds_cpu:.1f} s CPU ({ds_cpu / a.frames:.3f} s/frame, {3600 * a.frames / ds_cpu:.0f} frames per CPU-hour)")
+        print(f"paired wall, frames {starts[0]}, {starts[1] if n > 1 else ''}...: inside the dataset run "
+              f"{in_run:.3f} s/frame; lone `prism render` {lone_wall:.3f} s/frame; ratio {in_run / lone_wall:.3f}")
+        print(f"CPU: dataset {ds_cpu / a.frames:.3f} s/frame (all {a.frames}); lone {lone_cpu:.3f} s/frame "
+              f"({n} sampled); ratio {ds_cpu / a.frames / lone_cpu:.3f}")
+        if a.skip_rss:
+            return
         rs, rsp = a.rss_size or a.size, a.rss_spp or a.spp
         rss = {}
-        for n in (a.rss_short, a.rss_long):
-            c = config(tmp, n, rs, rsp)
-            o = tmp / f"rss{n}"
-            w, peak = run([prism, "dataset", str(c), "-o", str(o), "-q"])
-            rss[n] = peak
-            print(f"peak RSS after {n} frames ({rs}x{rs}, {rsp} spp): {peak} MiB ({w:.1f} s)")
+        for k in (a.rss_short, a.rss_long):
+            c = config(tmp, k, rs, rsp)
+            r = run([prism, "dataset", str(c), "-o", str(tmp / f"rss{k}"), "-q"])
+            rss[k] = r["rss"]
+            print(f"peak RSS after {k} frames ({rs}x{rs}, {rsp} spp): {r['rss']:.1f} MiB "
+                  f"({r['wall']:.1f} s wall, {r['cpu']:.1f} s CPU; load {load()})", flush=True)
         print(f"RSS ratio {a.rss_long}/{a.rss_short} frames: {rss[a.rss_long] / rss[a.rss_short]:.3f}")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -1,0 +1,77 @@
+//! The contents of the files a dataset reads besides its two configs (meshes, textures,
+//! spectra, envmaps, sensor files): their SHA-256 goes into `dataset.json`, so that a resume
+//! after an asset changed is refused naming the file, as a changed config is, instead of
+//! mixing frames of the old and the new asset.
+
+use super::base::Base;
+use crate::error::Error;
+use std::collections::BTreeMap;
+use std::path::{Component, Path, PathBuf};
+
+/// `{path: sha256}` of `base.inputs`, each path relative to the dataset config's folder (so the
+/// key does not depend on the directory prism runs in).
+pub fn hashes(base: &Base) -> Result<BTreeMap<String, String>, Error> {
+    let dir = normal(base.file.parent().unwrap_or(Path::new(".")));
+    let mut out = BTreeMap::new();
+    for p in &base.inputs {
+        let key = relative(&normal(p), &dir);
+        if let std::collections::btree_map::Entry::Vacant(e) = out.entry(key) {
+            let (sha, _) = super::manifest::sha256(p).map_err(|err| Error::io(p, err))?;
+            e.insert(sha);
+        }
+    }
+    Ok(out)
+}
+
+/// `p` made absolute and lexically normal (no `.`, `..` folded into its parent).
+fn normal(p: &Path) -> PathBuf {
+    let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let mut out = PathBuf::new();
+    for c in abs.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// `p` relative to `dir` (both normal), with `..` where `p` lies outside `dir`, `/`-separated.
+fn relative(p: &Path, dir: &Path) -> String {
+    let (a, b): (Vec<_>, Vec<_>) = (p.components().collect(), dir.components().collect());
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    if common == 0 {
+        // Another drive (Windows): nothing to be relative to.
+        return p.to_string_lossy().replace('\\', "/");
+    }
+    let up = std::iter::repeat_n("..".to_string(), b.len() - common);
+    let down = a[common..]
+        .iter()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned());
+    up.chain(down).collect::<Vec<_>>().join("/")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paths_are_relative_to_the_config_folder_whatever_their_spelling() {
+        let dir = normal(Path::new("/data/configs/datasets"));
+        let cases = [
+            (
+                "/data/configs/datasets/scenes/../../../scenes/sky.exr",
+                "../../scenes/sky.exr",
+            ),
+            ("/data/configs/datasets/./tex/a.png", "tex/a.png"),
+            ("/data/configs/sensors/x.ron", "../sensors/x.ron"),
+            ("/other/m.obj", "../../../other/m.obj"),
+        ];
+        for (p, want) in cases {
+            assert_eq!(relative(&normal(Path::new(p)), &dir), want, "{p}");
+        }
+    }
+}
