@@ -62,6 +62,41 @@ def load() -> str:
     return " ".join(f"{x:.1f}" for x in os.getloadavg())
 
 
+def timing(a, prism: str, tmp: pathlib.Path) -> None:
+    """Figures 1 and 2 of the module docs: the chunked run against lone renders."""
+    cfg = config(tmp, a.frames, a.size, a.spp)
+    out = tmp / "out"
+    starts = list(range(0, a.frames, a.chunk))
+    for i in starts:
+        run([prism, "dataset", str(cfg), "-o", str(tmp / "export"), "--export-frame", str(i), "-q"])
+    print(f"load average before: {load()}", flush=True)
+    chunks, lone = [], []
+    for i in starts:
+        hi = min(i + a.chunk, a.frames)
+        chunks.append(run([prism, "dataset", str(cfg), "-o", str(out), "--frames", f"{i}..{hi}", "-q"]))
+        scene = tmp / "export" / "frames" / f"{i:06d}.ron"
+        lone.append(run([prism, "render", str(scene), "-o", str(tmp / "lone.exr"), "-q",
+                         "--preview", str(tmp / "lone.png")]))
+        print(f"  frames {i}..{hi}: dataset {chunks[-1]['wall']:.1f} s wall {chunks[-1]['cpu']:.2f} s CPU; "
+              f"lone frame {i}: {lone[-1]['wall']:.2f} s wall {lone[-1]['cpu']:.2f} s CPU; load {load()}", flush=True)
+    print(f"load average after: {load()}")
+    lines = {e["frame"]: e for e in map(json.loads, (out / "manifest.jsonl").read_text().splitlines())}
+    assert sorted(lines) == list(range(a.frames)), "every frame listed once"
+    n = len(starts)
+    in_run = sum(lines[i]["seconds"] for i in starts) / n
+    lone_wall = sum(x["wall"] for x in lone) / n
+    lone_cpu = sum(x["cpu"] for x in lone) / n
+    ds_wall = sum(x["wall"] for x in chunks)
+    ds_cpu = sum(x["cpu"] for x in chunks)
+    print(f"dataset: {a.frames} frames {a.size}x{a.size} {a.spp} spp in {n} processes of {a.chunk}: "
+          f"{ds_wall:.1f} s wall ({ds_wall / a.frames:.3f} s/frame, {3600 * a.frames / ds_wall:.0f} frames/hour), "
+          f"{ds_cpu:.1f} s CPU ({ds_cpu / a.frames:.3f} s/frame, {3600 * a.frames / ds_cpu:.0f} frames per CPU-hour)")
+    print(f"paired wall, frames {starts[0]}, {starts[1] if n > 1 else ''}...: inside the dataset run "
+          f"{in_run:.3f} s/frame; lone `prism render` {lone_wall:.3f} s/frame; ratio {in_run / lone_wall:.3f}")
+    print(f"CPU: dataset {ds_cpu / a.frames:.3f} s/frame (all {a.frames}); lone {lone_cpu:.3f} s/frame "
+          f"({n} sampled); ratio {ds_cpu / a.frames / lone_cpu:.3f}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--frames", type=int, default=200)
@@ -73,41 +108,13 @@ def main() -> None:
     ap.add_argument("--rss-size", type=int, default=None, help="image size of the RSS runs (default --size)")
     ap.add_argument("--rss-spp", type=int, default=None)
     ap.add_argument("--skip-rss", action="store_true")
+    ap.add_argument("--skip-timing", action="store_true", help="only the RSS runs")
     a = ap.parse_args()
     prism = os.environ.get("PRISM_BIN", str(ROOT / "target" / "release" / "prism"))
     tmp = pathlib.Path(tempfile.mkdtemp(prefix="prism-dataset-bench-"))
     try:
-        cfg = config(tmp, a.frames, a.size, a.spp)
-        out = tmp / "out"
-        starts = list(range(0, a.frames, a.chunk))
-        for i in starts:
-            run([prism, "dataset", str(cfg), "-o", str(tmp / "export"), "--export-frame", str(i), "-q"])
-        print(f"load average before: {load()}", flush=True)
-        chunks, lone = [], []
-        for i in starts:
-            hi = min(i + a.chunk, a.frames)
-            chunks.append(run([prism, "dataset", str(cfg), "-o", str(out), "--frames", f"{i}..{hi}", "-q"]))
-            scene = tmp / "export" / "frames" / f"{i:06d}.ron"
-            lone.append(run([prism, "render", str(scene), "-o", str(tmp / "lone.exr"), "-q",
-                             "--preview", str(tmp / "lone.png")]))
-            print(f"  frames {i}..{hi}: dataset {chunks[-1]['wall']:.1f} s wall {chunks[-1]['cpu']:.2f} s CPU; "
-                  f"lone frame {i}: {lone[-1]['wall']:.2f} s wall {lone[-1]['cpu']:.2f} s CPU; load {load()}", flush=True)
-        print(f"load average after: {load()}")
-        lines = {e["frame"]: e for e in map(json.loads, (out / "manifest.jsonl").read_text().splitlines())}
-        assert sorted(lines) == list(range(a.frames)), "every frame listed once"
-        n = len(starts)
-        in_run = sum(lines[i]["seconds"] for i in starts) / n
-        lone_wall = sum(x["wall"] for x in lone) / n
-        lone_cpu = sum(x["cpu"] for x in lone) / n
-        ds_wall = sum(x["wall"] for x in chunks)
-        ds_cpu = sum(x["cpu"] for x in chunks)
-        print(f"dataset: {a.frames} frames {a.size}x{a.size} {a.spp} spp in {n} processes of {a.chunk}: "
-              f"{ds_wall:.1f} s wall ({ds_wall / a.frames:.3f} s/frame, {3600 * a.frames / ds_wall:.0f} frames/hour), "
-              f"{ds_cpu:.1f} s CPU ({ds_cpu / a.frames:.3f} s/frame, {3600 * a.frames / ds_cpu:.0f} frames per CPU-hour)")
-        print(f"paired wall, frames {starts[0]}, {starts[1] if n > 1 else ''}...: inside the dataset run "
-              f"{in_run:.3f} s/frame; lone `prism render` {lone_wall:.3f} s/frame; ratio {in_run / lone_wall:.3f}")
-        print(f"CPU: dataset {ds_cpu / a.frames:.3f} s/frame (all {a.frames}); lone {lone_cpu:.3f} s/frame "
-              f"({n} sampled); ratio {ds_cpu / a.frames / lone_cpu:.3f}")
+        if not a.skip_timing:
+            timing(a, prism, tmp)
         if a.skip_rss:
             return
         rs, rsp = a.rss_size or a.size, a.rss_spp or a.spp
