@@ -267,3 +267,56 @@ fn sensor_wavelength_sampling_chi_square() {
         .sum();
     assert!(nir > 0.3 * (4 * n) as f64, "{nir}");
 }
+
+/// Issue 15 item 3: where data end inside the render range, a warning names the spectrum and
+/// the range it covers: RGB reflectances (values and textures; the uplift is fitted on
+/// 360–830 nm), RGB emitters and environment maps (RGB × D65, data to 830 nm). A visible-range
+/// render of the same scene gives none of them.
+#[test]
+fn rgb_data_past_their_range_are_named() {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = |range: &str| {
+        format!(
+            r#"(
+        camera: (fov: 40, to_world: [LookAt(origin: (0, 1, 4), target: (0, 0.5, 0), up: (0, 1, 0))]),
+        film: (width: 8, height: 8),
+        spectral: (range: {range}),
+        materials: {{
+            "rgb": Diffuse(reflectance: Rgb(0.2, 0.5, 0.8)),
+            "tex": Diffuse(reflectance: Bitmap(path: "textures/grid.png")),
+        }},
+        shapes: [
+            (shape: Sphere(center: (0, 0.5, 0), radius: 0.5), material: "rgb"),
+            (shape: Sphere(center: (1, 0.5, 0), radius: 0.3), material: "tex"),
+            (shape: Rectangle, emitter: (radiance: Rgb(1, 1, 1)), to_world: [Rotate(axis: (1, 0, 0), angle: 90), Translate((0, 2, 0))]),
+        ],
+        emitters: [Envmap(filename: "textures/sky.exr")],
+    )"#
+        )
+    };
+    let file = repo.join("scenes/nir_warnings.ron");
+    let warnings = |range: &str| {
+        prism::scene::load_str(&text(range), &file)
+            .unwrap()
+            .warnings
+    };
+    let nir = warnings("(300, 1100)");
+    let has = |field: &str, what: &str| {
+        nir.iter()
+            .any(|w| w.contains(field) && w.contains(what) && w.contains("300–1100 nm"))
+    };
+    assert!(
+        has("materials.\"rgb\".reflectance", "fitted over 360–830 nm"),
+        "{nir:#?}"
+    );
+    assert!(
+        has("materials.\"tex\".reflectance", "fitted over 360–830 nm"),
+        "{nir:#?}"
+    );
+    assert!(
+        has("shapes[2].emitter.radiance", "300–830 nm only"),
+        "{nir:#?}"
+    );
+    assert!(has("emitters[0].filename", "RGB × D65"), "{nir:#?}");
+    assert_eq!(warnings("(360, 830)"), Vec::<String>::new());
+}

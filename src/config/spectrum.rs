@@ -164,6 +164,11 @@ impl SpectrumConfig {
                 .err(format!("a reflectance must lie in [0, 1], but this one reaches {max} in {lo}–{hi} nm"))
                 .hint("a surface cannot reflect more light than it receives; scale the values to at most 1"));
         }
+        let rgb = matches!(self, SpectrumConfig::Rgb(..))
+            || matches!(self, SpectrumConfig::ColourSpace(_, inner) if matches!(**inner, SpectrumConfig::Rgb(..)));
+        if rgb && role == Role::Reflectance {
+            warn_rgb_reflectance_range(ctx, warnings);
+        }
         if let Some((a, b)) = curve.support().filter(|_| role != Role::Response) {
             if a > lo || b < hi {
                 warnings.push(format!(
@@ -211,8 +216,9 @@ impl SpectrumConfig {
         gamut: Gamut,
         role: Role,
         ctx: &Context,
-        _warnings: &mut Vec<String>,
+        warnings: &mut Vec<String>,
     ) -> Result<SpectralTexture, InputError> {
+        warn_rgb_reflectance_range(ctx, warnings);
         Ok(match self {
             SpectrumConfig::Bitmap {
                 path,
@@ -395,6 +401,21 @@ impl SpectrumConfig {
 }
 
 /// The curve of the RGB value `rgb` of the space `gamut`, checked for `role`.
+/// An RGB reflectance (value or texture) is a sigmoid fitted to its colour over the CIE 1931
+/// observer's 360–830 nm; past that range it is the sigmoid's extrapolation, not data: say so
+/// when the render range reaches beyond it (issue 15: never a silent guess in the NIR or UV).
+fn warn_rgb_reflectance_range(ctx: &Context, warnings: &mut Vec<String>) {
+    use crate::spectrum::rgb2spec_fit::{LAMBDA_MAX, LAMBDA_MIN};
+    let (lo, hi) = ctx.range;
+    if (lo as f64) < LAMBDA_MIN || (hi as f64) > LAMBDA_MAX {
+        warnings.push(format!(
+            "{}: {}: an RGB reflectance is uplifted to a spectrum fitted over {LAMBDA_MIN}–{LAMBDA_MAX} nm; in the rest of the render range {lo}–{hi} nm it is extrapolated, not measured (give a Tabulated or File reflectance that covers the range)",
+            ctx.file.display(),
+            ctx.field
+        ));
+    }
+}
+
 fn rgb_curve(rgb: [f32; 3], gamut: Gamut, role: Role, ctx: &Context) -> Result<Curve, InputError> {
     let [r, g, b] = rgb;
 

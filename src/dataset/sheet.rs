@@ -114,7 +114,9 @@ mod tests {
     /// included, each once and in order.
     #[test]
     fn long_runs_show_evenly_spaced_frames() {
-        let pngs: Vec<PathBuf> = (0..1000).map(|k| PathBuf::from(format!("{k}.png"))).collect();
+        let pngs: Vec<PathBuf> = (0..1000)
+            .map(|k| PathBuf::from(format!("{k}.png")))
+            .collect();
         let chosen: Vec<usize> = pick(&pngs)
             .iter()
             .map(|p| p.file_stem().unwrap().to_str().unwrap().parse().unwrap())

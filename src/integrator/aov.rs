@@ -38,11 +38,8 @@ pub fn add_layers(
         film.channels.extend(stderr_layers(se, &job.channels));
     }
     if job.aovs.contains(&Aov::Albedo) {
-        film.channels.extend(super::albedo::layers(
-            &job.scene,
-            h,
-            &job.channels.sensor,
-        ));
+        film.channels
+            .extend(super::albedo::layers(&job.scene, h, &job.channels.sensor));
     }
     hits
 }

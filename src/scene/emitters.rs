@@ -207,6 +207,18 @@ pub fn emitter(
                     *p = p.map(|c| c.max(0.0));
                 }
             }
+            // Texels are RGB × D65 (EnvMap::new_in), so they end where the D65 table does.
+            if let Some((a, b)) = crate::spectrum::data::named_illuminant("D65")
+                .and_then(|d| d.support())
+                .filter(|&(a, b)| a > range.0 || b < range.1)
+            {
+                warnings.push(format!(
+                    "{}: {field}.filename: an environment map's radiance is its RGB × D65, whose data cover {a}–{b} nm only: it is 0 elsewhere in the render range {}–{} nm",
+                    file.display(),
+                    range.0,
+                    range.1
+                ));
+            }
             Emitter::Envmap(Box::new(EnvMap::new_in(gamut, &img, *scale, m)))
         }
     })
