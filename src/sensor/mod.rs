@@ -240,12 +240,14 @@ impl Sensor {
         }
         let mut band_centers = Vec::new();
         let slot = |k: usize| (0..n).map(|i| means[i * slots + k]).collect::<Vec<f32>>();
+        // Once, not per name: it formats every centre (O(bands²) through band_name).
+        let digits = self.name_digits();
         if let Some(b) = self.bands {
             for k in 0..b.count {
                 let center = b.center(k);
                 band_centers.push(center);
                 channels.push(Channel {
-                    name: self.band_name(k),
+                    name: names::padded_name(center, digits),
                     data: slot(XYZ_SLOTS + k as usize),
                 });
             }
