@@ -79,6 +79,13 @@ pub fn parse(text: &str) -> Result<Table, TableError> {
             line: line_no,
             message,
         };
+        // Separators only (`,`, `;`): no field to read (fuzz finding, seed 14 case 1464: it
+        // indexed an empty list).
+        if fields.is_empty() {
+            return Err(err(format!(
+                "the line `{line}` has separators but no numbers"
+            )));
+        }
         if columns.is_none() {
             if fields[0].parse::<f64>().is_err() {
                 if fields.len() < 2 {
