@@ -385,7 +385,7 @@ mod tests {
         let pmf = |k: usize| (k as f64 * lambda.ln() - lambda - ln_gamma(k as f64 + 1.0)).exp();
         let mut expected: Vec<f64> = (0..kmax).map(|k| n * pmf(k)).collect();
         expected.push(n - expected.iter().sum::<f64>());
-        let (stat, p, dof) = chi2_test(&observed, &expected);
+        let (p, stat, dof) = chi2_test(&observed, &expected);
         assert!(p > 1e-3, "chi2 {stat} (dof {dof}), p {p}");
     }
 
