@@ -4,6 +4,8 @@
 //! projective matrices, a non-finite `--exposure`). Every refusal: exit 2, the file and field,
 //! no output, and quickly (nothing large allocated, nothing blocking).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -98,27 +100,6 @@ fn memory_is_estimated_and_refused_up_front() {
     assert!(err.contains("`lots` is not a size"), "{err}");
 }
 
-/// Peak resident memory of a prism run, from wait4(2) (which reaps the child).
-#[allow(clippy::zombie_processes)]
-fn peak_rss(args: &[&str]) -> u64 {
-    let child = Command::new(env!("CARGO_BIN_EXE_prism"))
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut status = 0;
-    // SAFETY: wait4 on our own child, with valid pointers to locals.
-    let ru = unsafe {
-        let mut ru: libc::rusage = std::mem::zeroed();
-        let r = libc::wait4(child.id() as i32, &mut status, 0, &mut ru);
-        assert_eq!(r, child.id() as i32);
-        ru
-    };
-    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0);
-    ru.ru_maxrss as u64 * 1024
-}
-
 /// The estimate against the measured peak of two renders whose film dominates (200 bands at
 /// 384×384, with and without caustic light tracing): it must not fall short (a render the check
 /// lets through must fit) and not exceed the peak by more than 1.5× (a refusal must be real).
@@ -155,7 +136,12 @@ fn memory_estimate_holds_against_the_measured_peak() {
         let s = scene.display().to_string();
         let o = dir.join("out.exr").display().to_string();
         let peak =
-            peak_rss(&["render", &s, "-o", &o, "-q", "--spp", "1", "--threads", "2"]) as f64;
+            {
+                let (rss, code) =
+                    common::peak_rss(&["render", &s, "-o", &o, "-q", "--spp", "1", "--threads", "2"]);
+                assert_eq!(code, 0);
+                rss as f64
+            };
         let ratio = estimate / peak;
         eprintln!("{name}: estimate {mib:.1} MiB, peak {:.1} MiB, ratio {ratio:.3}", peak / (1 << 20) as f64);
         assert!((1.0..1.5).contains(&ratio), "{name}: estimate/peak = {ratio}");

@@ -5,11 +5,13 @@
 //! nodes is instanced with the file's counts; 1,000 instances of a 100k-triangle mesh take less
 //! than twice the peak memory of one; the memory estimate counts unique geometry.
 
+mod common;
+
 use prism::film::Film;
 use prism::integrator::{self, aov};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
 
 fn workdir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("prism-inst-{}-{name}", std::process::id()));
@@ -314,27 +316,6 @@ fn gltf_mesh_under_several_nodes_is_instanced() {
     assert!(close * 100 >= 97 * n, "only {close} of {n} pixels agree");
 }
 
-/// Peak resident memory of a prism run, from wait4(2) (which reaps the child).
-#[allow(clippy::zombie_processes)]
-fn peak_rss(args: &[&str]) -> (u64, i32) {
-    let child = Command::new(env!("CARGO_BIN_EXE_prism"))
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut status = 0;
-    // SAFETY: wait4 on our own child, with valid pointers to locals.
-    let ru = unsafe {
-        let mut ru: libc::rusage = std::mem::zeroed();
-        let r = libc::wait4(child.id() as i32, &mut status, 0, &mut ru);
-        assert_eq!(r, child.id() as i32);
-        ru
-    };
-    assert!(libc::WIFEXITED(status), "prism {args:?} did not exit");
-    (ru.ru_maxrss as u64 * 1024, libc::WEXITSTATUS(status))
-}
-
 /// A bumpy height field of 224 × 224 quads (100,352 triangles) as binary PLY.
 fn write_grid_ply(path: &Path) -> usize {
     let n = 224usize;
@@ -407,9 +388,9 @@ fn thousand_instances_cost_less_than_twice_one() {
     let one = write("one.ron", grid_scene(1, false));
     let many = write("many.ron", grid_scene(1000, false));
     let out = |name: &str| dir.join(name).to_str().unwrap().to_string();
-    let (rss_one, rc) = peak_rss(&["render", &one, "-o", &out("one.exr"), "-q"]);
+    let (rss_one, rc) = common::peak_rss(&["render", &one, "-o", &out("one.exr"), "-q"]);
     assert_eq!(rc, 0);
-    let (rss_many, rc) = peak_rss(&["render", &many, "-o", &out("many.exr"), "-q"]);
+    let (rss_many, rc) = common::peak_rss(&["render", &many, "-o", &out("many.exr"), "-q"]);
     assert_eq!(rc, 0);
     let mib = |b: u64| b as f64 / (1 << 20) as f64;
     eprintln!(

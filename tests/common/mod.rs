@@ -121,3 +121,25 @@ fn t_tail_matches_tables() {
     let (_, dof, _) = welch(1.0, 0.0, 8.0, 1.2, 0.1, 8.0);
     assert!((dof - 7.0).abs() < 1e-9);
 }
+
+/// Peak resident memory (bytes) and exit code of a prism run, from wait4(2) (which reaps the
+/// child).
+#[allow(clippy::zombie_processes)]
+pub fn peak_rss(args: &[&str]) -> (u64, i32) {
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_prism"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut status = 0;
+    // SAFETY: wait4 on our own child, with valid pointers to locals.
+    let ru = unsafe {
+        let mut ru: libc::rusage = std::mem::zeroed();
+        let r = libc::wait4(child.id() as i32, &mut status, 0, &mut ru);
+        assert_eq!(r, child.id() as i32);
+        ru
+    };
+    assert!(libc::WIFEXITED(status), "prism {args:?} did not exit");
+    (ru.ru_maxrss as u64 * 1024, libc::WEXITSTATUS(status))
+}
