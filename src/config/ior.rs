@@ -143,6 +143,25 @@ impl IorConfig {
             ))
             .hint(hint));
         }
+        // Beyond these, ratios of two indices and their squares leave f32's range (an index of
+        // 1e-45 made the relative index infinite and the refracted ray NaN); real dielectrics
+        // lie within about 1–4.
+        if min < MIN_IOR || max > MAX_IOR {
+            let v = if min < MIN_IOR { min } else { max };
+            let at = if constant {
+                String::new()
+            } else {
+                format!(" (reached in {lo}–{hi} nm)")
+            };
+            return Err(err(format!(
+                "the index of refraction {v}{at} is outside [{MIN_IOR}, {MAX_IOR}]"
+            ))
+            .hint("real dielectrics have indices of about 1–4, e.g. 1.5 (glass) or 1.33 (water)"));
+        }
         Ok(ior)
     }
 }
+
+/// The indices of refraction a scene may give (see `IorConfig::resolve`).
+pub const MIN_IOR: f32 = 0.01;
+pub const MAX_IOR: f32 = 100.0;

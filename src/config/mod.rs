@@ -29,10 +29,10 @@ use crate::sampler::SamplerKind;
 use crate::spectrum::WavelengthSampling;
 use crate::texture::{TexFilter, Wrap};
 pub use camera::{CameraModel, DistortionConfig, IntrinsicsConfig};
-pub use ior::{IorConfig, IorForm};
+pub use ior::{IorConfig, IorForm, MAX_IOR, MIN_IOR};
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
-pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig};
+pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig, MAX_EMISSION};
 use std::collections::BTreeMap;
 use std::path::Path;
 
