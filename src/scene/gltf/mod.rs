@@ -8,6 +8,7 @@
 //! Every problem a user can fix (bad JSON, a missing buffer or image, an extension prism cannot
 //! decode) is an `InputError` naming the glTF file and the JSON field.
 
+mod checks;
 mod lights;
 mod materials;
 mod nodes;
@@ -172,6 +173,7 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
         a.retain(|v| v.as_str().is_some_and(|s| s != "KHR_materials_dispersion"));
     }
     check_position_indices(path, &json)?;
+    checks::check_values(path, &json)?;
     let root: gltf::json::Root = serde_json::from_value(json).map_err(|e| {
         InputError::new(path, format!("not a valid glTF 2.0 document: {e}"))
             .hint("check the file with the Khronos glTF validator")
@@ -308,10 +310,12 @@ pub(super) fn add_shapes(
     shape_emitter: &mut Vec<Option<u32>>,
     emitters: &mut Vec<crate::emitter::Emitter>,
     shape_name: &mut Vec<Option<String>>,
+    material_names: &mut Vec<String>,
     punctual: &mut Vec<(String, crate::config::EmitterConfig)>,
 ) {
     let first = materials.len() as u32;
     materials.extend(ex.materials);
+    material_names.extend(ex.material_names);
     for s in ex.shapes {
         let mat = match s.material {
             MatRef::Scene(k) => k,
