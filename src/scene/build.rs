@@ -247,6 +247,9 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         materials.push(materials::material(name, m, file, range, &mut warnings)?);
     }
     let mut default_material = None;
+    // Parallel to `materials` and `shapes`: for the objects (sidecar, id AOVs).
+    let mut material_names: Vec<String> = cfg.materials.keys().cloned().collect();
+    let mut shape_source = Vec::new();
 
     // Shapes and their area emitters.
     let mut shapes = Vec::new();
@@ -271,8 +274,10 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
                 &mut shape_emitter,
                 &mut emitters,
                 &mut shape_name,
+                &mut material_names,
                 &mut gltf_emitters,
             );
+            shape_source.resize(shapes.len(), i);
             continue;
         }
         let shape = match mesh_files.instance(sc, file, &field, base, &mut warnings)? {
@@ -307,6 +312,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
                 materials.push(Material::Diffuse {
                     reflectance: SpectralTexture::Uniform(Curve::Constant(0.5)),
                 });
+                material_names.push("(default)".into());
                 (materials.len() - 1) as u32
             }),
         };
@@ -330,6 +336,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         shape_material.push(mat);
         shape_emitter.push(emitter);
         shape_name.push(None);
+        shape_source.push(i);
     }
     names.clear();
 
@@ -388,7 +395,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     );
     scene.shape_name = shape_name;
     let aovs = super::objects::aovs(&cfg.aovs, cfg.integrator.caustics.is_some(), file)?;
-    let objects = super::objects::objects(&cfg, &scene, file)?;
+    let objects = super::objects::objects(&cfg, &scene, file, &shape_source, material_names)?;
     Ok(Job {
         scene,
         settings,

@@ -20,8 +20,9 @@ pub struct Object {
     pub material: String,
     /// 1 + the material's index in `Objects::materials`.
     pub material_id: u32,
-    /// The shape's `to_world` (meshes and spheres may also place themselves in their own
-    /// coordinates; `bounds` is the world box of the rendered geometry).
+    /// The shape's `to_world`, or an instance's whole transform (a glTF part's: the shape's
+    /// `to_world` times its node's world matrix); meshes and spheres may also place themselves
+    /// in their own coordinates, and `bounds` is the world box of the rendered geometry.
     pub to_world: Mat4,
     pub bounds: (Vec3, Vec3),
 }
@@ -42,11 +43,16 @@ impl Objects {
     }
 }
 
-pub fn objects(cfg: &SceneConfig, scene: &Scene, file: &Path) -> Result<Objects, InputError> {
-    let mut materials: Vec<String> = cfg.materials.keys().cloned().collect();
-    if materials.len() < scene.materials.len() {
-        materials.push("(default)".into());
-    }
+/// The scene's objects, one per built shape. `source[j]` is the config shape that built shape
+/// `j` (a `Gltf` shape builds one per mesh primitive under its nodes), `material_names` the
+/// name of each of the scene's materials.
+pub fn objects(
+    cfg: &SceneConfig,
+    scene: &Scene,
+    file: &Path,
+    source: &[usize],
+    material_names: Vec<String>,
+) -> Result<Objects, InputError> {
     let labels: Vec<String> = cfg
         .shapes
         .iter()
@@ -54,9 +60,12 @@ pub fn objects(cfg: &SceneConfig, scene: &Scene, file: &Path) -> Result<Objects,
         .collect::<std::collections::BTreeSet<_>>()
         .into_iter()
         .collect();
+    // Names the scene gives first: a repeat among them is the user's to fix.
     let mut seen: BTreeMap<String, usize> = BTreeMap::new();
-    let mut list = Vec::with_capacity(cfg.shapes.len());
     for (i, sc) in cfg.shapes.iter().enumerate() {
+        if matches!(sc.shape, crate::config::ShapeKind::Gltf { .. }) {
+            continue;
+        }
         let name = sc.name.clone().unwrap_or_else(|| format!("shape{i}"));
         if let Some(j) = seen.insert(name.clone(), i) {
             return Err(InputError::new(
@@ -66,27 +75,59 @@ pub fn objects(cfg: &SceneConfig, scene: &Scene, file: &Path) -> Result<Objects,
             .field(format!("shapes[{i}].name"))
             .hint("instance names must be unique (unnamed shapes are called shape<index>); rename one of them"));
         }
-        let to_world = geometry::transform(&sc.to_world, file, &format!("shapes[{i}].to_world"))?.m;
-        let shape = &scene.shapes[i];
+    }
+    let mut taken: std::collections::BTreeSet<String> = seen.into_keys().collect();
+    let mut list = Vec::with_capacity(scene.shapes.len());
+    for (j, shape) in scene.shapes.iter().enumerate() {
+        let i = source[j];
+        let sc = &cfg.shapes[i];
+        let field = format!("shapes[{i}].to_world");
+        let mut to_world = geometry::transform(&sc.to_world, file, &field)?.m;
+        let name = match (
+            &scene.shape_name[j],
+            matches!(sc.shape, crate::config::ShapeKind::Gltf { .. }),
+        ) {
+            // A glTF part: its node's name, under the shape's own name if it has one; node
+            // names need not be unique (nor are a node's primitives), so repeats get #2, #3, ….
+            (part, true) => {
+                let part = part.clone().unwrap_or_else(|| format!("part{j}"));
+                let base = match &sc.name {
+                    Some(n) => format!("{n}/{part}"),
+                    None => part,
+                };
+                let mut name = base.clone();
+                let mut k = 1;
+                while taken.contains(&name) {
+                    k += 1;
+                    name = format!("{base}#{k}");
+                }
+                taken.insert(name.clone());
+                name
+            }
+            (_, false) => sc.name.clone().unwrap_or_else(|| format!("shape{i}")),
+        };
         let bounds = match shape {
             // Its vertices' bounds: the same box, without transforming each triangle.
-            crate::shape::Shape::Instance(inst) => inst.bounds(),
+            crate::shape::Shape::Instance(inst) => {
+                to_world = inst.to_world.m;
+                inst.bounds()
+            }
             _ => (0..shape.prim_count())
                 .map(|k| shape.prim_geom(k).bounds())
                 .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
                     (lo.min(a), hi.max(b))
                 }),
         };
-        let m = scene.shape_material[i];
+        let m = scene.shape_material[j];
         list.push(Object {
-            instance_id: i as u32 + 1,
+            instance_id: j as u32 + 1,
             name,
             label: sc.label.clone(),
             label_id: sc
                 .label
                 .as_ref()
                 .map_or(0, |l| labels.binary_search(l).map_or(0, |k| k as u32 + 1)),
-            material: materials[m as usize].clone(),
+            material: material_names[m as usize].clone(),
             material_id: m + 1,
             to_world,
             bounds,
@@ -95,7 +136,7 @@ pub fn objects(cfg: &SceneConfig, scene: &Scene, file: &Path) -> Result<Objects,
     Ok(Objects {
         list,
         labels,
-        materials,
+        materials: material_names,
     })
 }
 
@@ -131,4 +172,67 @@ pub fn aovs(names: &[String], caustics: bool, file: &Path) -> Result<Vec<Aov>, I
         out.push(a);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    /// A RON scene with a glTF shape before and after its own shapes: one object per built
+    /// shape, each with its own name, material and id, the glTF parts named after their nodes
+    /// (SimpleMeshes: one mesh under two unnamed nodes -> node0, node1; with the shape's name
+    /// as prefix), and an empty glTF scene adding no object (the fuzzer found it panicking).
+    #[test]
+    fn gltf_parts_are_objects_of_their_own() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let dir = std::env::temp_dir().join(format!("prism-objects-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let simple = root.join("tests/data/gltf/SimpleMeshes.gltf");
+        let empty = dir.join("empty.gltf");
+        std::fs::write(
+            &empty,
+            r#"{"asset": {"version": "2.0"}, "scenes": [{"nodes": []}], "scene": 0}"#,
+        )
+        .unwrap();
+        let scene = dir.join("s.ron");
+        std::fs::write(
+            &scene,
+            format!(
+                r#"(
+            film: (width: 8, height: 6),
+            materials: {{"red": Diffuse(reflectance: Constant(0.5))}},
+            shapes: [
+                (shape: Gltf(path: "{}"), name: "pair", label: "toy"),
+                (shape: Sphere(radius: 0.1), material: "red", name: "ball"),
+                (shape: Gltf(path: "{}")),
+                (shape: Gltf(path: "{}"), material: "red"),
+            ],
+            emitters: [Constant(radiance: Named("D65"))],
+        )"#,
+                simple.display(),
+                empty.display(),
+                simple.display()
+            ),
+        )
+        .unwrap();
+        let job = crate::scene::load(&scene, |_| {}).unwrap();
+        let o = &job.objects;
+        let names: Vec<&str> = o.list.iter().map(|x| x.name.as_str()).collect();
+        assert_eq!(
+            names,
+            ["pair/node0", "pair/node1", "ball", "node0", "node1"]
+        );
+        assert_eq!(o.list.len(), job.scene.shapes.len());
+        let ids: Vec<u32> = o.list.iter().map(|x| x.instance_id).collect();
+        assert_eq!(ids, [1, 2, 3, 4, 5]);
+        assert_eq!(o.list[0].label.as_deref(), Some("toy"));
+        assert_eq!(o.list[1].label_id, 1);
+        assert_eq!(o.list[2].label_id, 0);
+        for k in [2, 3, 4] {
+            assert_eq!(o.list[k].material, "red", "{:?}", o.list[k]);
+        }
+        // SimpleMeshes has no materials: the glTF default material.
+        assert_eq!(o.list[0].material, "(glTF default)");
+        // The second node is translated by +1 in x: its world box shows it.
+        assert!((o.list[1].bounds.0.x - o.list[0].bounds.0.x - 1.0).abs() < 1e-6);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

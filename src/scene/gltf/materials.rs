@@ -235,6 +235,25 @@ impl<'a> GltfMaterials<'a> {
         Ok(r)
     }
 
+    /// The name of each built material, in `into_materials` order: the glTF material's name,
+    /// else `materials[i]` of the file, or `(glTF default)`.
+    pub fn names(&self) -> Vec<String> {
+        let mut names = vec![String::new(); self.materials.len()];
+        for (index, built) in &self.built {
+            names[built.0] = match index {
+                Some(i) => self
+                    .model
+                    .doc
+                    .materials()
+                    .nth(*i)
+                    .and_then(|m| m.name().map(str::to_owned))
+                    .unwrap_or_else(|| format!("materials[{i}]")),
+                None => "(glTF default)".into(),
+            };
+        }
+        names
+    }
+
     pub fn into_materials(self) -> Vec<Material> {
         self.materials
     }

@@ -302,6 +302,8 @@ pub struct ExpandedShape {
 pub struct Expanded {
     pub shapes: Vec<ExpandedShape>,
     pub materials: Vec<Material>,
+    /// The name of each of `materials` (for the sidecar and the material ids).
+    pub material_names: Vec<String>,
     /// Its KHR_lights_punctual lights (unless `lights: false`).
     pub emitters: Vec<(String, EmitterConfig)>,
 }
@@ -394,6 +396,7 @@ pub fn expand(
     let mut out = Expanded {
         shapes: Vec::new(),
         materials: Vec::new(),
+        material_names: Vec::new(),
         emitters: Vec::new(),
     };
     for p in walk.primitives {
@@ -465,6 +468,7 @@ pub fn expand(
             name: Some(p.name),
         });
     }
+    out.material_names = mats.names();
     out.materials = mats.into_materials();
     if *lights {
         for l in &walk.lights {
