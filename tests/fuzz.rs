@@ -1,5 +1,5 @@
 //! The mutation fuzzer's fixed-seed sample and regression corpus (docs/fuzzing.md). The engine
-//! is examples/fuzz/engine.rs; its long run is `cargo run --release --example fuzz`.
+//! is examples/fuzz/engine/ (seeds, mutations, the oracle); its long run is `cargo run --release --example fuzz`.
 //!
 //! - `oracle_*`: the verdicts can fail: stand-in programs that panic, hang, die by a signal or
 //!   exit 1 are each flagged.
@@ -9,7 +9,7 @@
 //! - `fixed_seed_sample`: 5000 cases in-process (`prism::cli::run`, panics caught) and every
 //!   tenth of them also through the binary under `prlimit --as` with a time bound.
 
-#[path = "../examples/fuzz/engine.rs"]
+#[path = "../examples/fuzz/engine/mod.rs"]
 mod engine;
 
 use engine::{Verdict, LIMITS};

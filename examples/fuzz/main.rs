@@ -10,7 +10,7 @@
 //! (hangs, memory, signals, exit codes as a user sees them). Failing cases are saved under
 //! `--out`/findings as regression-corpus directories (tests/fuzz_corpus/ takes them as they are).
 
-#[path = "engine.rs"]
+#[path = "engine/mod.rs"]
 mod engine;
 
 use engine::{Verdict, LIMITS};

@@ -1,0 +1,93 @@
+//! The mutation fuzzer's engine, shared by the long-run driver (`examples/fuzz/main.rs`) and the
+//! test (`tests/fuzz.rs`). A case is a scene text, perhaps with one input file (mesh, texture,
+//! spectrum table, glTF file), made by mutating the repository's own scenes and files; it is run through
+//! prism (the binary, or the library in-process) and must end with exit code 0 or 2: no panic,
+//! no other code, no signal, no hang past the time bound, no allocation past the memory bound.
+//!
+//! Scene texts carry two placeholders, so a case (and a regression case in tests/fuzz_corpus/)
+//! can be replayed anywhere: `@REPO@` (the repository root) and `@CASE@` (the case's directory,
+//! which holds `scene.ron` and the mutated input file).
+
+#![allow(dead_code)]
+
+mod mutate;
+mod oracle;
+mod seeds;
+
+// The driver and the test each use part of the engine.
+#[allow(unused_imports)]
+pub use mutate::make_case;
+#[allow(unused_imports)]
+pub use oracle::{
+    install_panic_hook, load_corpus_case, materialise, run_binary, run_in_process, save_finding,
+    Limits, LIMITS,
+};
+pub use seeds::load_seeds;
+
+/// What an input file is (decides the mutations and the scene that uses it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileKind {
+    Mesh,
+    Texture,
+    Envmap,
+    Spectrum,
+    /// A glTF 2.0 scene: JSON `.gltf` (text mutations too) or the binary `.glb` container.
+    Gltf,
+}
+
+/// A seed scene: its name and text with every relative path made `@REPO@/...`, the film shrunk
+/// to 8×6 so that each case renders in milliseconds.
+#[derive(Clone, Debug)]
+pub struct SeedScene {
+    pub name: String,
+    pub text: String,
+}
+
+/// A seed file and a scene that reads it through `@CASE@/<name>`.
+#[derive(Clone, Debug)]
+pub struct SeedFile {
+    pub kind: FileKind,
+    /// The file name the case writes (keeps the extension, which selects the reader).
+    pub name: String,
+    pub bytes: Vec<u8>,
+    pub host: String,
+}
+
+pub struct Seeds {
+    pub scenes: Vec<SeedScene>,
+    pub files: Vec<SeedFile>,
+}
+
+/// One case: the scene text and at most one input file (name, bytes) beside it.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub index: u64,
+    pub what: String,
+    pub scene: String,
+    pub file: Option<(String, Vec<u8>)>,
+}
+
+/// How a case ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    Ok(i32),
+    Panic(String),
+    WrongExit(i32, String),
+    Signal(String),
+    Hang,
+}
+
+impl Verdict {
+    pub fn is_ok(&self) -> bool {
+        matches!(self, Verdict::Ok(_))
+    }
+    pub fn label(&self) -> &'static str {
+        match self {
+            Verdict::Ok(_) => "ok",
+            Verdict::Panic(_) => "panic",
+            Verdict::WrongExit(..) => "wrong-exit",
+            Verdict::Signal(_) => "signal",
+            Verdict::Hang => "hang",
+        }
+    }
+}

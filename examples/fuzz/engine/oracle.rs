@@ -1,0 +1,195 @@
+//! Running a case: writing it out, running it through the prism binary under bounds on time
+//! and memory or in-process under `catch_unwind`, judging how it ended, and saving findings.
+
+use super::{Case, Verdict};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// Bounds on one case.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Wall-clock bound: catches a prism blocked without using the CPU (a deadlock, a read
+    /// that never ends). Generous, since a loaded machine stretches wall time.
+    pub timeout: Duration,
+    /// CPU-time bound of a spawned prism (`prlimit --cpu`, SIGXCPU past it): catches a busy
+    /// loop whatever the machine's load (a 20 s wall bound flagged an 8×32768 film at 1.9 s
+    /// of CPU as a hang under a load average of 20).
+    pub cpu_seconds: u64,
+    /// Address-space limit of a spawned prism (`prlimit --as`), bytes.
+    pub address_space: u64,
+    /// `--max-memory` given to prism.
+    pub max_memory: &'static str,
+}
+
+pub const LIMITS: Limits = Limits {
+    timeout: Duration::from_secs(120),
+    cpu_seconds: 20,
+    address_space: 4 << 30,
+    max_memory: "1GiB",
+};
+
+/// Writes `case` into `dir` (emptied first); returns the scene's path.
+pub fn materialise(case: &Case, dir: &Path, repo: &Path) -> PathBuf {
+    let _ = std::fs::remove_dir_all(dir);
+    std::fs::create_dir_all(dir).unwrap();
+    let fill = |t: &str| {
+        t.replace("@REPO@", &repo.display().to_string())
+            .replace("@CASE@", &dir.display().to_string())
+    };
+    let scene = dir.join("scene.ron");
+    std::fs::write(&scene, fill(&case.scene)).unwrap();
+    if let Some((name, bytes)) = &case.file {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    scene
+}
+
+fn args(scene: &Path, dir: &Path, limits: &Limits) -> Vec<String> {
+    let s = |p: PathBuf| p.display().to_string();
+    vec![
+        "render".into(),
+        scene.display().to_string(),
+        "-o".into(),
+        s(dir.join("out.exr")),
+        "--preview".into(),
+        s(dir.join("out.png")),
+        "--spp".into(),
+        "1".into(),
+        "--threads".into(),
+        "1".into(),
+        "--max-memory".into(),
+        limits.max_memory.into(),
+        "-q".into(),
+    ]
+}
+
+/// Runs the prism binary `bin` on the case in `dir`, under the limits.
+pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Verdict, String) {
+    let mut child = Command::new("prlimit")
+        .arg(format!("--as={}", limits.address_space))
+        // Soft limit first: SIGXCPU (below), a second later the hard limit's SIGKILL.
+        .arg(format!(
+            "--cpu={}:{}",
+            limits.cpu_seconds,
+            limits.cpu_seconds + 1
+        ))
+        .arg("--")
+        .arg(bin)
+        .args(args(scene, dir, limits))
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("prlimit and prism run");
+    let start = Instant::now();
+    let mut stderr = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        use std::io::Read;
+        let _ = stderr.read_to_string(&mut s);
+        s
+    });
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break Some(st);
+        }
+        if start.elapsed() > limits.timeout {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    };
+    let err = reader.join().unwrap_or_default();
+    let v = match status {
+        None => Verdict::Hang,
+        Some(st) => match st.code() {
+            _ if err.contains("panicked") => Verdict::Panic(tail(&err)),
+            Some(c @ (0 | 2)) => Verdict::Ok(c),
+            Some(101) => Verdict::Panic(tail(&err)),
+            Some(c) => Verdict::WrongExit(c, tail(&err)),
+            None => {
+                use std::os::unix::process::ExitStatusExt;
+                match st.signal() {
+                    Some(libc::SIGXCPU) => Verdict::Hang,
+                    s => Verdict::Signal(format!("signal {s:?}: {}", tail(&err))),
+                }
+            }
+        },
+    };
+    (v, err)
+}
+
+fn tail(s: &str) -> String {
+    let lines: Vec<&str> = s.lines().collect();
+    lines[lines.len().saturating_sub(6)..].join("\n")
+}
+
+static PANIC: Mutex<Option<String>> = Mutex::new(None);
+
+/// Makes in-process panics quiet and records the last message (call once).
+pub fn install_panic_hook() {
+    std::panic::set_hook(Box::new(|info| {
+        let msg = format!("{info}");
+        if info.location().is_some_and(|l| l.file().contains("fuzz")) {
+            eprintln!("the fuzzer itself panicked: {msg}");
+        }
+        *PANIC.lock().unwrap_or_else(|e| e.into_inner()) = Some(msg);
+    }));
+}
+
+/// Runs the case in `dir` through `prism::cli::run` in this process, catching panics. Hangs
+/// and memory are not bounded here (the binary runs are for those).
+pub fn run_in_process(scene: &Path, dir: &Path, limits: &Limits) -> Verdict {
+    let mut a = vec!["prism".to_string()];
+    a.extend(args(scene, dir, limits));
+    match std::panic::catch_unwind(|| prism::cli::run(a)) {
+        Ok(c @ (0 | 2)) => Verdict::Ok(c),
+        Ok(c) => Verdict::WrongExit(c, String::new()),
+        Err(_) => Verdict::Panic(
+            PANIC
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .take()
+                .unwrap_or_default(),
+        ),
+    }
+}
+
+/// A regression case of tests/fuzz_corpus/: a directory with `scene.ron` (placeholders as
+/// above) and at most one other file, the input it reads.
+pub fn load_corpus_case(dir: &Path) -> Case {
+    let scene = std::fs::read_to_string(dir.join("scene.ron")).unwrap();
+    let mut file = None;
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if !matches!(name.as_str(), "scene.ron" | "README" | "expect") {
+            file = Some((name, std::fs::read(&p).unwrap()));
+        }
+    }
+    Case {
+        index: 0,
+        what: dir.display().to_string(),
+        scene,
+        file,
+    }
+}
+
+/// Saves a failing case as a corpus-style directory under `out`.
+pub fn save_finding(case: &Case, verdict: &Verdict, stderr: &str, out: &Path) -> PathBuf {
+    let d = out.join(format!("{}-{}", verdict.label(), case.index));
+    let _ = std::fs::create_dir_all(&d);
+    std::fs::write(d.join("scene.ron"), &case.scene).unwrap();
+    if let Some((n, b)) = &case.file {
+        std::fs::write(d.join(n), b).unwrap();
+    }
+    std::fs::write(
+        d.join("README"),
+        format!("{}\n{verdict:?}\n{stderr}\n", case.what),
+    )
+    .unwrap();
+    d
+}
