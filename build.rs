@@ -35,7 +35,7 @@ fn host_cpu_cfgs() {
 
 // `rgb2spec_fit.rs` refers to its sibling as `super::table`, as in the crate; mirroring
 // `crate::spectrum` here makes that path resolve. Only part of their API is used by the build.
-#[allow(dead_code)]
+#[allow(dead_code, unused_imports)]
 #[path = "src/spectrum"]
 mod spectrum {
     pub mod gamut;
@@ -51,11 +51,14 @@ mod spectrum {
 fn fit_rgb_table(root: &Path, out: &Path) {
     use spectrum::gamut::ALL_GAMUTS;
     use spectrum::rgb2spec_fit::{fit_table, FitData};
-    for src in [
+    // The sources of the fit (`rgb2spec_fit.rs` and what it includes).
+    let fit_sources = [
         "src/spectrum/rgb2spec_fit.rs",
+        "src/spectrum/rgb2spec_fit/coeffs.rs",
         "src/spectrum/table.rs",
         "src/spectrum/gamut.rs",
-    ] {
+    ];
+    for src in fit_sources {
         println!("cargo:rerun-if-changed={}", root.join(src).display());
     }
     let read = |rel: &str| {
@@ -68,14 +71,10 @@ fn fit_rgb_table(root: &Path, out: &Path) {
     // The fit depends only on these inputs: a table whose key (a hash of them) matches the one
     // stored beside it from an earlier run is kept, so editing another file of `spectra/`
     // (which re-runs this script) does not refit.
-    let sources: Vec<String> = [
-        "src/spectrum/rgb2spec_fit.rs",
-        "src/spectrum/table.rs",
-        "src/spectrum/gamut.rs",
-    ]
-    .iter()
-    .map(|p| fs::read_to_string(root.join(p)).unwrap())
-    .collect();
+    let sources: Vec<String> = fit_sources
+        .iter()
+        .map(|p| fs::read_to_string(root.join(p)).unwrap())
+        .collect();
     let mut times = String::new();
     for gamut in ALL_GAMUTS {
         let res = 64;

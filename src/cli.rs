@@ -4,11 +4,12 @@ use crate::error::Error;
 use crate::integrator::{self, RenderStats};
 use crate::output;
 use clap::{Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
+
+mod workers;
+use workers::Reporter;
+pub use workers::{worker_pool, WorkerArgs};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -74,9 +75,6 @@ pub struct RenderArgs {
     /// Random seed (overrides the scene's sampler.seed).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Worker threads. Default: one per core.
-    #[arg(long)]
-    pub threads: Option<usize>,
     /// Acceleration structure (overrides the scene's `accel`); `embree` needs prism built with
     /// `--features embree`.
     #[arg(long, value_enum)]
@@ -119,9 +117,8 @@ pub struct RenderArgs {
     /// available); a scene whose estimated need exceeds it is refused before rendering.
     #[arg(long, value_parser = crate::resources::parse_size)]
     pub max_memory: Option<u64>,
-    /// No progress output (the summary line is still printed).
-    #[arg(short, long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub workers: WorkerArgs,
 }
 
 /// A feature switched on or off from the command line.
@@ -171,30 +168,11 @@ where
     }
 }
 
-/// The worker threads of `--threads N` (default: one per core), for every subcommand that
-/// renders; `--threads 0` is refused naming `file` (the scene or config the command was given).
-pub fn worker_pool(threads: Option<usize>, file: &Path) -> Result<rayon::ThreadPool, Error> {
-    if threads == Some(0) {
-        return Err(
-            crate::error::InputError::new(file, "--threads must be at least 1")
-                .field("--threads")
-                .hint("give a positive number, or leave --threads out for one thread per core")
-                .into(),
-        );
-    }
-    let mut b = rayon::ThreadPoolBuilder::new();
-    if let Some(t) = threads {
-        b = b.num_threads(t);
-    }
-    b.build()
-        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))
-}
-
 fn render(args: &RenderArgs) -> Result<(), Error> {
     if args.spp == Some(0) {
         return Err(crate::error::InputError::new(&args.scene, "--spp must be at least 1").into());
     }
-    let pool = worker_pool(args.threads, &args.scene)?;
+    let pool = worker_pool(args.workers.threads, &args.scene)?;
     if !args.exposure.is_finite() {
         return Err(crate::error::InputError::new(
             &args.scene,
@@ -206,7 +184,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         .hint("give a number such as --exposure -1.5")
         .into());
     }
-    crate::resources::configure(args.max_memory, args.threads);
+    crate::resources::configure(args.max_memory, args.workers.threads);
     output::interrupt::install();
     let out = args
         .output
@@ -278,7 +256,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     }
     let s = &job.settings;
     let total = s.width as u64 * s.height as u64 * s.spp as u64;
-    let reporter = Reporter::new(total, args.quiet);
+    let reporter = Reporter::new(total, args.workers.quiet);
     let t_render = Instant::now();
     let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
     let (mut film, stats, se) = pool.install(|| {
@@ -397,54 +375,4 @@ fn metadata(
         ),
         ("prism:renderSeconds".into(), format!("{seconds:.3}")),
     ]
-}
-
-/// Progress: a bar with ETA and throughput on a terminal, a plain line every 10% otherwise.
-struct Reporter {
-    bar: Option<ProgressBar>,
-    total: u64,
-    done: AtomicU64,
-    start: Instant,
-    quiet: bool,
-}
-
-impl Reporter {
-    fn new(total: u64, quiet: bool) -> Self {
-        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-            let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-            b.set_style(
-                ProgressStyle::with_template("{bar:40} {percent:>3}%  {msg}  ETA {eta}")
-                    .expect("valid template"),
-            );
-            b
-        });
-        Self {
-            bar,
-            total,
-            done: AtomicU64::new(0),
-            start: Instant::now(),
-            quiet,
-        }
-    }
-
-    fn add(&self, n: u64) {
-        let before = self.done.fetch_add(n, Ordering::Relaxed);
-        let now = before + n;
-        let msps = now as f64 / self.start.elapsed().as_secs_f64().max(1e-9) / 1e6;
-        if let Some(b) = &self.bar {
-            b.set_position(now);
-            b.set_message(format!("{msps:.2} Msamples/s"));
-        } else if !self.quiet {
-            let step = |v: u64| v * 10 / self.total.max(1);
-            if step(now) > step(before) {
-                eprintln!("progress: {:3}%  {msps:.2} Msamples/s", step(now) * 10);
-            }
-        }
-    }
-
-    fn finish(&self) {
-        if let Some(b) = &self.bar {
-            b.finish_and_clear();
-        }
-    }
 }

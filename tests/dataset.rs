@@ -40,6 +40,24 @@ fn config(dir: &Path, edit: impl Fn(String) -> String) -> PathBuf {
     p
 }
 
+/// configs/datasets/scenes/tabletop.ron with its sky's path made absolute, so that an edited
+/// copy of it loads from any folder.
+fn tabletop() -> String {
+    std::fs::read_to_string(root().join("configs/datasets/scenes/tabletop.ron"))
+        .unwrap()
+        .replace(
+            "\"../../../scenes/textures/sky.exr\"",
+            &format!("{:?}", root().join("scenes/textures/sky.exr")),
+        )
+}
+
+/// `config(dir, edit)` with `dir`/base.ron (an edited `tabletop()`) as the frames' base scene.
+fn config_on_base(dir: &Path, edit: impl Fn(String) -> String) -> PathBuf {
+    let tabletop = format!("{:?}", root().join("configs/datasets/scenes/tabletop.ron"));
+    let base = format!("{:?}", dir.join("base.ron"));
+    config(dir, |t| edit(t).replace(&tabletop, &base))
+}
+
 fn dataset(cfg: &Path, out: &Path, extra: &[&str]) -> Output {
     prism()
         .arg("dataset")
@@ -449,14 +467,7 @@ fn bad_input_is_refused_before_any_frame_renders() {
 #[test]
 fn frames_that_keep_their_geometry_build_it_once_and_match_fresh_builds() {
     let dir = workdir("geometry");
-    let ds = root().join("configs/datasets");
-    let base = std::fs::read_to_string(ds.join("scenes/tabletop.ron"))
-        .unwrap()
-        .replace(
-            "\"../../../scenes/textures/sky.exr\"",
-            &format!("{:?}", root().join("scenes/textures/sky.exr")),
-        )
-        .replace(
+    let base = tabletop().replace(
             "    shapes: [\n",
             &format!(
                 "    shapes: [\n        (name: \"prism\", shape: Mesh(path: {:?}), material: \"plastic\", to_world: [Scale((0.15, 0.15, 0.15)), Translate((0.5, 0.9, -0.4))]),\n",
@@ -464,14 +475,10 @@ fn frames_that_keep_their_geometry_build_it_once_and_match_fresh_builds() {
             ),
         );
     std::fs::write(dir.join("base.ron"), base).unwrap();
-    let cfg = config(&dir, |t| {
+    let cfg = config_on_base(&dir, |t| {
         let a = t.find("    objects: (").unwrap();
         let b = a + t[a..].find("\n    ),\n").unwrap() + "\n    ),\n".len();
-        let t = format!("{}{}", &t[..a], &t[b..]);
-        t.replace(
-            &format!("{:?}", ds.join("scenes/tabletop.ron")),
-            &format!("{:?}", dir.join("base.ron")),
-        )
+        format!("{}{}", &t[..a], &t[b..])
     });
     let full = dir.join("full");
     let o = dataset(&cfg, &full, &[]);
@@ -628,27 +635,15 @@ fn bad_sensor_variations_are_refused_before_any_frame_renders() {
 #[test]
 fn a_changed_texture_refuses_the_resume_naming_the_file() {
     let dir = workdir("assets");
-    let ds = root().join("configs/datasets");
-    let base = std::fs::read_to_string(ds.join("scenes/tabletop.ron"))
-        .unwrap()
-        .replace(
-            "\"../../../scenes/textures/sky.exr\"",
-            &format!("{:?}", root().join("scenes/textures/sky.exr")),
-        )
-        .replace(
-            "Diffuse(reflectance: Rgb(0.45, 0.28, 0.15))",
-            "Diffuse(reflectance: Bitmap(path: \"wood.png\"))",
-        );
+    let base = tabletop().replace(
+        "Diffuse(reflectance: Rgb(0.45, 0.28, 0.15))",
+        "Diffuse(reflectance: Bitmap(path: \"wood.png\"))",
+    );
     assert!(base.contains("wood.png"));
     std::fs::write(dir.join("base.ron"), base).unwrap();
     let textures = root().join("scenes/textures");
     std::fs::copy(textures.join("grid.png"), dir.join("wood.png")).unwrap();
-    let cfg = config(&dir, |t| {
-        t.replace(
-            &format!("{:?}", ds.join("scenes/tabletop.ron")),
-            &format!("{:?}", dir.join("base.ron")),
-        )
-    });
+    let cfg = config_on_base(&dir, |t| t);
     let out = dir.join("out");
     ok(&dataset(&cfg, &out, &["--frames", "0"]));
     let identity: serde_json::Value =

@@ -531,6 +531,38 @@ fn dispersion_emission_and_alpha() {
     assert_eq!(*opacity, prism::texture::FloatTexture::Constant(0.3));
 }
 
+/// The unit quad's two triangles in z = 0: their six corners (x, y).
+const QUAD_CORNERS: [[f32; 2]; 6] = [
+    [0.0, 0.0],
+    [1.0, 0.0],
+    [1.0, 1.0],
+    [1.0, 1.0],
+    [0.0, 1.0],
+    [0.0, 0.0],
+];
+
+/// Appends `v` to `bytes` as little-endian f32s (a glTF buffer's layout).
+fn push_f32s(bytes: &mut Vec<u8>, v: &[f32]) {
+    v.iter()
+        .for_each(|x| bytes.extend_from_slice(&x.to_le_bytes()))
+}
+
+/// The unit quad's buffer: POSITION (72 bytes), NORMAL +z (72) and TEXCOORD_0 = (x, 1 − y)
+/// (48; glTF's v runs down the image), each for the six corners, in that order.
+fn quad_buffer() -> Vec<u8> {
+    let mut bytes = Vec::new();
+    for c in QUAD_CORNERS {
+        push_f32s(&mut bytes, &[c[0], c[1], 0.0]);
+    }
+    for _ in QUAD_CORNERS {
+        push_f32s(&mut bytes, &[0.0, 0.0, 1.0]);
+    }
+    for c in QUAD_CORNERS {
+        push_f32s(&mut bytes, &[c[0], 1.0 - c[1]]);
+    }
+    bytes
+}
+
 /// A unit quad in z = 0 (normal +z, glTF's uv layout: u along +x, v down the image = along −y)
 /// with a 1×1 normal texture holding tangent-space normal `n`, optionally with TANGENTs.
 fn normal_mapped_quad(dir: &Path, n: Vec3, tangents: bool) -> PathBuf {
@@ -542,31 +574,10 @@ fn normal_mapped_quad(dir: &Path, n: Vec3, tangents: bool) -> PathBuf {
         .unwrap()
         .save(dir.join("n.png"))
         .unwrap();
-    let corners = [
-        [0.0f32, 0.0],
-        [1.0, 0.0],
-        [1.0, 1.0],
-        [1.0, 1.0],
-        [0.0, 1.0],
-        [0.0, 0.0],
-    ];
-    let mut bytes = Vec::new();
-    let mut push = |v: &[f32]| {
-        v.iter()
-            .for_each(|x| bytes.extend_from_slice(&x.to_le_bytes()))
-    };
-    for c in corners {
-        push(&[c[0], c[1], 0.0]);
-    }
-    for _ in corners {
-        push(&[0.0, 0.0, 1.0]);
-    }
-    for c in corners {
-        push(&[c[0], 1.0 - c[1]]);
-    }
+    let mut bytes = quad_buffer();
     if tangents {
-        for _ in corners {
-            push(&[1.0, 0.0, 0.0, 1.0]);
+        for _ in QUAD_CORNERS {
+            push_f32s(&mut bytes, &[1.0, 0.0, 0.0, 1.0]);
         }
     }
     let len = bytes.len();
@@ -771,30 +782,9 @@ fn textured_quad(
     material: &str,
     images: &[image::DynamicImage],
 ) -> PathBuf {
-    let corners = [
-        [0.0f32, 0.0],
-        [1.0, 0.0],
-        [1.0, 1.0],
-        [1.0, 1.0],
-        [0.0, 1.0],
-        [0.0, 0.0],
-    ];
-    let mut bytes = Vec::new();
-    let mut push = |v: &[f32]| {
-        v.iter()
-            .for_each(|x| bytes.extend_from_slice(&x.to_le_bytes()))
-    };
-    for c in corners {
-        push(&[c[0], c[1], 0.0]);
-    }
-    for _ in corners {
-        push(&[0.0, 0.0, 1.0]);
-    }
-    for c in corners {
-        push(&[c[0], 1.0 - c[1]]);
-    }
-    for c in corners {
-        push(&[1.0 - c[0], 1.0 - c[1]]);
+    let mut bytes = quad_buffer();
+    for c in QUAD_CORNERS {
+        push_f32s(&mut bytes, &[1.0 - c[0], 1.0 - c[1]]);
     }
     let mut textures = Vec::new();
     let mut uris = Vec::new();

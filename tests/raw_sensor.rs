@@ -11,7 +11,7 @@
 use prism::film::Film;
 use prism::integrator;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
 
 const L: f64 = 0.75;
 /// The curves' values over 550–551 nm (R, G, B); their common peak is R's 1.0.
@@ -201,6 +201,17 @@ fn workdir(name: &str) -> PathBuf {
     d
 }
 
+/// `prism render -q SCENE -o OUT`.
+fn render_cli(scene: &Path, out: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_prism"))
+        .args(["render", "-q"])
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
 /// `prism render` writes raw.Y as a uint32 EXR channel with the prism:raw.* attributes, and the
 /// sidecar's sensor section lists them.
 #[test]
@@ -209,13 +220,7 @@ fn written_as_a_uint_channel_with_its_parameters() {
     let scene_file = dir.join("flat.ron");
     std::fs::write(&scene_file, scene(8, 1, &sensor(RAW))).unwrap();
     let out = dir.join("flat.exr");
-    let o = Command::new(env!("CARGO_BIN_EXE_prism"))
-        .args(["render", "-q"])
-        .arg(&scene_file)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = render_cli(&scene_file, &out);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     use exr::prelude::*;
     let img = read()
@@ -264,70 +269,63 @@ fn bad_raw_input_exits_2() {
         &format!("exposure: (iso: 100, shutter: {SHUTTER}, f_number: {F_NUMBER}),"),
         "",
     );
-    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+    // (name, the raw part's fields, what stderr must say).
+    let raw_cases: [(&str, &str, &[&str]); 8] = [
         (
             "pattern",
-            sensor("pattern: Rgbg"),
-            vec!["Rgbg", "Rggb", "Bggr", "Grbg", "Gbrg"],
+            "pattern: Rgbg",
+            &["Rgbg", "Rggb", "Bggr", "Grbg", "Gbrg"],
         ),
         (
             "read",
-            sensor("read_noise: -1"),
-            vec!["sensor.raw.read_noise", "non-negative", "hint"],
+            "read_noise: -1",
+            &["sensor.raw.read_noise", "non-negative", "hint"],
         ),
         (
             "dark",
-            sensor("dark_current: -0.5"),
-            vec!["sensor.raw.dark_current", "non-negative"],
+            "dark_current: -0.5",
+            &["sensor.raw.dark_current", "non-negative"],
         ),
-        (
-            "bits0",
-            sensor("bits: 0"),
-            vec!["sensor.raw.bits", "1 to 32", "hint"],
-        ),
-        (
-            "bits33",
-            sensor("bits: 33"),
-            vec!["sensor.raw.bits", "1 to 32"],
-        ),
+        ("bits0", "bits: 0", &["sensor.raw.bits", "1 to 32", "hint"]),
+        ("bits33", "bits: 33", &["sensor.raw.bits", "1 to 32"]),
         (
             "qe",
-            sensor("quantum_efficiency: 1.5"),
-            vec!["sensor.raw.quantum_efficiency", "at most"],
+            "quantum_efficiency: 1.5",
+            &["sensor.raw.quantum_efficiency", "at most"],
         ),
         (
             "black",
-            sensor("bits: 8, black_level: 300"),
-            vec!["sensor.raw.black_level", "raise bits"],
+            "bits: 8, black_level: 300",
+            &["sensor.raw.black_level", "raise bits"],
         ),
         (
             "gain",
-            sensor("gain: PerElectron(0)"),
-            vec!["sensor.raw.gain", "positive"],
+            "gain: PerElectron(0)",
+            &["sensor.raw.gain", "positive"],
         ),
+    ];
+    let whole_sensor: [(&str, String, &[&str]); 2] = [
         (
             "camera",
             camera_less,
-            vec!["sensor.raw", "needs a camera", "hint: add camera"],
+            &["sensor.raw", "needs a camera", "hint: add camera"],
         ),
         (
             "exposure",
             no_exposure,
-            vec!["sensor.raw", "exposure", "hint: add camera.exposure"],
+            &["sensor.raw", "exposure", "hint: add camera.exposure"],
         ),
     ];
+    let cases = raw_cases
+        .into_iter()
+        .map(|(name, raw, needles)| (name, sensor(raw), needles))
+        .chain(whole_sensor);
     for (name, s, needles) in cases {
         let dir = workdir(name);
         let file = dir.join("bad.ron");
         std::fs::write(&file, scene(8, 1, &s)).unwrap();
         let out = dir.join("bad.exr");
-        let o = Command::new(env!("CARGO_BIN_EXE_prism"))
-            .args(["render", "-q"])
-            .arg(&file)
-            .arg("-o")
-            .arg(&out)
-            .output()
-            .unwrap();
+        let o = render_cli(&file, &out);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{name}: {err}");
         assert!(!out.exists(), "{name}: output written");

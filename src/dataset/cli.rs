@@ -32,12 +32,8 @@ pub struct DatasetArgs {
     /// Start over in an output folder that holds another dataset (or other files).
     #[arg(long)]
     pub force: bool,
-    /// Worker threads. Default: one per core.
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// No per-frame progress (the summary line is still printed).
-    #[arg(short, long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub workers: crate::cli::WorkerArgs,
 }
 
 /// Runs `prism dataset`; exit code 1 if a frame failed.
@@ -48,12 +44,12 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
         .map(|s| parse_frames(s, &args.config))
         .transpose()?;
     let shard = shard(args, &|k| std::env::var(k).ok())?;
-    let pool = crate::cli::worker_pool(args.threads, &args.config)?;
+    let pool = crate::cli::worker_pool(args.workers.threads, &args.config)?;
     let opts = Options {
         frames,
         shard,
         force: args.force,
-        quiet: args.quiet,
+        quiet: args.workers.quiet,
         export_frame: args.export_frame,
         check: args.check,
     };

@@ -1,15 +1,14 @@
 //! From the scene's `sensor:` (or its older `outputs:`) to a `Sensor`, with every check a
 //! user's mistake can trip reported against the file and the field.
 
+mod band_groups;
+mod camera_model;
+
 use super::bands::{Response, Shape};
-use super::camera::{self, CameraModel, CAMERAS};
-use super::{Bands, ChannelName, Layers, Observer, RgbSpace, Sensor};
-use crate::config::sensor::{
-    BandConfig, CameraConfig, CameraCurves, SensorConfig, SensorField, SensorFile, WhiteBalance,
-};
-use crate::config::{spectrum_ctx, OutputConfig, Role};
+use super::{Layers, Observer, RgbSpace, Sensor};
+use crate::config::sensor::{BandConfig, SensorConfig, SensorField, SensorFile};
+use crate::config::OutputConfig;
 use crate::error::InputError;
-use crate::spectrum::{data, Curve};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
@@ -148,138 +147,16 @@ fn from_config(
     warnings: &mut Vec<String>,
 ) -> Result<Sensor, InputError> {
     let (lo, hi) = range;
-    let mut even: Option<Bands> = None;
-    let mut responses = Vec::new();
-    let mut names = Vec::new();
     let default_bands = [BandConfig::Even {
         count: None,
         range: None,
     }];
     let groups = cfg.bands.as_deref().unwrap_or(&default_bands);
-    let check_box = |field: &str, blo: f32, bhi: f32| -> Result<(), InputError> {
-        if !(blo.is_finite() && bhi.is_finite() && blo < bhi) {
-            return Err(at
-                .err(
-                    field,
-                    format!("the band [{blo}, {bhi}) nm has zero or negative width"),
-                )
-                .hint("write (lo, hi) with lo < hi"));
-        }
-        if blo < lo || bhi > hi {
-            return Err(at
-                .err(field, format!("the band [{blo}, {bhi}) nm lies outside the spectral range ({lo}, {hi}) nm"))
-                .hint("widen spectral.range or move the band inside it"));
-        }
-        Ok(())
-    };
-    for (g, group) in groups.iter().enumerate() {
-        let field = format!("bands[{g}]");
-        match group {
-            BandConfig::Even { count, range: r } => {
-                let (blo, bhi) = r.unwrap_or(range);
-                if even.is_some() {
-                    return Err(at
-                        .err(&field, "more than one `Even` group")
-                        .hint("give one Even group; add others as Boxes([...])"));
-                }
-                let n = match count {
-                    Some(0) => {
-                        continue;
-                    }
-                    Some(n) => *n,
-                    None => (((bhi - blo) / 10.0).round() as u32).max(1),
-                };
-                // The old `outputs` wording for its two fields.
-                let (rf, cf) = if at.prefix == "outputs" {
-                    ("band_range".to_string(), "bands".to_string())
-                } else {
-                    (format!("{field}.range"), format!("{field}.count"))
-                };
-                if !(blo.is_finite() && bhi.is_finite() && blo < bhi && blo >= lo && bhi <= hi) {
-                    return Err(at.err(&rf, format!("the band range ({blo}, {bhi}) nm must be increasing and inside the spectral range ({lo}, {hi}) nm")));
-                }
-                if n > 4096 {
-                    return Err(at.err(&cf, "more than 4096 spectral bands"));
-                }
-                even = Some(Bands {
-                    lo: blo,
-                    hi: bhi,
-                    count: n,
-                });
-            }
-            BandConfig::Boxes(list) => {
-                for (i, &(blo, bhi)) in list.iter().enumerate() {
-                    check_box(&format!("{field}[{i}]"), blo, bhi)?;
-                    responses.push(Response {
-                        shape: Shape::Box { lo: blo, hi: bhi },
-                        scale: 1.0 / (bhi - blo),
-                    });
-                    names.push(ChannelName::Spectral(0.5 * (blo + bhi)));
-                }
-            }
-            BandConfig::Box {
-                lo: blo,
-                hi: bhi,
-                name,
-            } => {
-                check_box(&field, *blo, *bhi)?;
-                responses.push(Response {
-                    shape: Shape::Box { lo: *blo, hi: *bhi },
-                    scale: 1.0 / (bhi - blo),
-                });
-                names.push(match name {
-                    Some(n) => ChannelName::Layer(layer_name(at, &format!("{field}.name"), n)?),
-                    None => ChannelName::Spectral(0.5 * (blo + bhi)),
-                });
-            }
-            BandConfig::Filter { name, curve } => {
-                let f = format!("{field}.curve");
-                let full = at.field(&f);
-                let c = curve.resolve(
-                    Role::Response,
-                    &spectrum_ctx(at.file, &full, range),
-                    warnings,
-                )?;
-                let mut r = Response {
-                    shape: Shape::Curve(c),
-                    scale: 1.0,
-                };
-                let (slo, shi) = r.support(range);
-                let integral = r.integral(slo.max(lo), shi.min(hi));
-                if integral.is_nan() || integral <= 0.0 {
-                    return Err(at
-                        .err(
-                            &f,
-                            format!(
-                                "the filter curve is zero over the spectral range ({lo}, {hi}) nm"
-                            ),
-                        )
-                        .hint(
-                            "a filter needs a positive response somewhere inside spectral.range",
-                        ));
-                }
-                if slo < lo || shi > hi {
-                    let total = r.integral(slo, shi);
-                    if integral < 0.999 * total {
-                        warnings.push(format!(
-                            "{}: {full}: the filter responds over {slo}–{shi} nm, beyond the spectral range ({lo}, {hi}) nm; its channel integrates the rendered part only ({:.1}% of its area)",
-                            at.file.display(),
-                            100.0 * integral / total
-                        ));
-                    }
-                }
-                r.scale = (1.0 / integral) as f32;
-                names.push(match name {
-                    Some(n) => ChannelName::Layer(layer_name(at, &format!("{field}.name"), n)?),
-                    // The centroid to 0.001 nm, so a symmetric curve is named after its centre.
-                    None => ChannelName::Spectral(
-                        (r.centre(slo.max(lo), shi.min(hi)) * 1000.0).round() / 1000.0,
-                    ),
-                });
-                responses.push(r);
-            }
-        }
-    }
+    let band_groups::SpectralBands {
+        even,
+        mut responses,
+        names,
+    } = band_groups::spectral_bands(groups, at, range, warnings)?;
     let mut layers = Layers {
         rgb: cfg.rgb.clone(),
         xyz: cfg.xyz,
@@ -294,7 +171,7 @@ fn from_config(
             .hint("add camera: (curves: Named(\"sony_ilce_7m3\"), exposure: (iso: 100, shutter: 0.01, f_number: 4)), or see configs/sensors/raw_rggb.ron"));
     }
     if let Some(cam) = &cfg.camera {
-        let (curves, model) = camera_model(cam, at, range, cfg.observer, warnings)?;
+        let (curves, model) = camera_model::camera_model(cam, at, range, cfg.observer, warnings)?;
         if let Some(r) = &cfg.raw {
             let err = |f: &str, m: String, fix: &str| {
                 let field = if f.is_empty() {
@@ -398,113 +275,4 @@ fn from_config(
         ..m
     });
     Ok(sensor)
-}
-
-/// A user's layer name (`nir` → channel `nir.Y`): letters, digits, `_` and `-` only.
-fn layer_name(at: &At, field: &str, n: &str) -> Result<String, InputError> {
-    let ok = !n.is_empty()
-        && n.chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-        && !n.starts_with("S0")
-        && !["camera", "corrected", "raw"].contains(&n);
-    if !ok {
-        return Err(at.err(field, format!("`{n}` is not a usable layer name"))
-            .hint("use ASCII letters, digits, `_` or `-`, not starting with S0 and not `camera`, `corrected` or `raw`"));
-    }
-    Ok(format!("{n}.Y"))
-}
-
-fn camera_model(
-    cam: &CameraConfig,
-    at: &At,
-    range: (f32, f32),
-    observer: Observer,
-    warnings: &mut Vec<String>,
-) -> Result<([Curve; 3], CameraModel), InputError> {
-    let (curves, name) = match &cam.curves {
-        CameraCurves::Named(n) => (
-            camera::named(n).ok_or_else(|| {
-                at.err("camera.curves", format!("unknown camera `{n}`"))
-                    .hint(format!("the named cameras are: {}", CAMERAS.join(", ")))
-            })?,
-            n.clone(),
-        ),
-        CameraCurves::Curves { r, g, b } => {
-            let mut out = Vec::new();
-            for (c, s) in [("r", r), ("g", g), ("b", b)] {
-                let f = at.field(&format!("camera.curves.{c}"));
-                out.push(s.resolve(Role::Response, &spectrum_ctx(at.file, &f, range), warnings)?);
-            }
-            let [r, g, b]: [Curve; 3] = out.try_into().expect("three curves");
-            ([r, g, b], "user curves".to_string())
-        }
-    };
-    let d65 = data::named_illuminant("D65").expect("D65 is embedded");
-    let wb_illum = match &cam.white_balance {
-        WhiteBalance::Off => None,
-        WhiteBalance::Illuminant(n) => Some(data::named_illuminant(n).ok_or_else(|| {
-            at.err("camera.white_balance", format!("unknown illuminant `{n}`"))
-                .hint(format!(
-                    "the named illuminants are: {}",
-                    data::illuminant_names().join(", ")
-                ))
-        })?),
-        WhiteBalance::Temperature(k) => {
-            if !(k.is_finite() && *k >= 1000.0 && *k <= 40000.0) {
-                return Err(at.err(
-                    "camera.white_balance",
-                    format!("colour temperature {k} K is outside 1000–40000 K"),
-                ));
-            }
-            Some(Curve::Blackbody {
-                kelvin: *k,
-                scale: 1.0,
-            })
-        }
-    };
-    let m = match &wb_illum {
-        Some(w) => camera::white_balance(&curves, w),
-        None => glam::DVec3::ONE,
-    };
-    if !m.is_finite() || m.min_element() <= 0.0 {
-        return Err(at.err(
-            "camera.white_balance",
-            "a camera channel does not respond to the white-balance illuminant",
-        ));
-    }
-    let fit = camera::fit_matrix(
-        &curves,
-        m,
-        wb_illum.as_ref().unwrap_or(&d65),
-        &d65,
-        observer.cmf(),
-    );
-    let exposure = match cam.exposure {
-        None => 1.0,
-        Some(e) => {
-            for (v, f) in [
-                (e.iso, "iso"),
-                (e.shutter, "shutter"),
-                (e.f_number, "f_number"),
-            ] {
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(at
-                        .err(
-                            &format!("camera.exposure.{f}"),
-                            format!("{f} is {v}; it must be a positive number"),
-                        )
-                        .hint("e.g. exposure: (iso: 100, shutter: 0.01, f_number: 8)"));
-                }
-            }
-            camera::exposure_scale(e.iso as f64, e.shutter as f64, e.f_number as f64)
-        }
-    };
-    let model = CameraModel {
-        name,
-        white_balance: m.as_vec3(),
-        exposure: exposure as f32,
-        to_xyz: fit.as_mat3(),
-        corrected: cam.corrected,
-    };
-    Ok((curves, model))
 }

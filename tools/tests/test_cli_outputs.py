@@ -6,7 +6,8 @@
   changes pixels), and the EXR's metadata must record B. `--threads` changes no pixel (renders
   are deterministic at any thread count) and the summary line reports it; `--exposure` is
   checked through the preview.
-- `--help` lists every field of `RenderArgs` (read from src/cli.rs, so a new flag is covered).
+- `--help` lists every field of `RenderArgs` (read from src/cli.rs and the structs it flattens, so a
+  new flag is covered).
 - The EXR read by OpenImageIO (not by prism's own `exr` crate, and not by a byte search): every
   channel float32, every prism:* attribute present with the value the run used.
 - The preview PNG decoded by OpenCV (libpng) equals the EXR's RGB × 2^exposure under the sRGB
@@ -138,11 +139,17 @@ def test_threads_change_no_pixel_and_are_reported(prism_bin, tmp_path):
 
 
 def render_args_fields() -> list[str]:
-    """The fields of `RenderArgs` in src/cli.rs, as flags (the positional `scene` left out)."""
-    src = (ROOT / "src/cli.rs").read_text()
-    body = re.search(r"pub struct RenderArgs \{(.*?)\n\}", src, re.S).group(1)
-    names = re.findall(r"^\s*pub (\w+):", body, re.M)
-    return ["--" + n.replace("_", "-") for n in names if n != "scene"]
+    """The fields of `RenderArgs` in src/cli.rs, as flags (the positional `scene` left out); a
+    `#[command(flatten)]` field stands for the fields of its struct (in src/cli.rs or src/cli/)."""
+    files = [ROOT / "src/cli.rs", *sorted((ROOT / "src/cli").glob("*.rs"))]
+    src = "\n".join(f.read_text() for f in files)
+
+    def fields(struct: str) -> list[str]:
+        body = re.search(rf"pub struct {struct} \{{(.*?)\n\}}", src, re.S).group(1)
+        found = re.findall(r"^\s*(#\[command\(flatten\)\]\s*)?pub (\w+): ([\w:]+)", body, re.M)
+        return [n for flat, name, ty in found for n in (fields(ty.split("::")[-1]) if flat else [name])]
+
+    return ["--" + n.replace("_", "-") for n in fields("RenderArgs") if n != "scene"]
 
 
 def test_help_lists_every_flag(prism_bin):

@@ -1,0 +1,194 @@
+//! The tree's traversal: a stack of nodes still to visit, nearest first when ordered, with the
+//! node test compiled twice (portable SIMD, and AVX2 where the CPU has it).
+
+use super::slab::BoxQuery;
+use super::{Tree, Visit, EMPTY, LEAF, ROBUST, STACK, W};
+use crate::ray::Ray;
+use arrayvec::ArrayVec;
+
+impl Tree {
+    /// Visits the leaves `ray` may meet within (0, t_max], nearest first when `ORDERED`,
+    /// skipping boxes beyond `t_max` (which `leaf` may shrink as it finds hits). `leaf` gets a
+    /// leaf's first item and item count. Returns true if `leaf` stopped the traversal.
+    #[inline(always)]
+    pub fn traverse<const ORDERED: bool>(
+        &self,
+        ray: &Ray,
+        t_max: &mut f32,
+        leaf: impl FnMut(u32, u32, &mut f32) -> Visit,
+    ) -> bool {
+        if self.root == EMPTY {
+            return false;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only where the CPU has AVX2.
+            return unsafe { self.traverse_avx2::<ORDERED, _>(ray, t_max, leaf) };
+        }
+        self.traverse_on::<ORDERED, false, _>(ray, t_max, leaf)
+    }
+
+    /// The traversal compiled for AVX2: the node test, the loop and the caller's leaf code
+    /// (inlined here) all get AVX encodings, with the same arithmetic as the portable path.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn traverse_avx2<
+        const ORDERED: bool,
+        F: FnMut(u32, u32, &mut f32) -> Visit,
+    >(
+        &self,
+        ray: &Ray,
+        t_max: &mut f32,
+        leaf: F,
+    ) -> bool {
+        self.traverse_on::<ORDERED, true, _>(ray, t_max, leaf)
+    }
+
+    #[inline(always)]
+    pub(super) fn traverse_on<
+        const ORDERED: bool,
+        const AVX2: bool,
+        F: FnMut(u32, u32, &mut f32) -> Visit,
+    >(
+        &self,
+        ray: &Ray,
+        t_max: &mut f32,
+        leaf: F,
+    ) -> bool {
+        if self.stack_needed <= STACK {
+            let mut stack = ArrayVec::<Entry, STACK>::new();
+            self.traverse_with::<ORDERED, AVX2, _>(&mut stack, ray, t_max, leaf)
+        } else {
+            let mut stack = Vec::with_capacity(self.stack_needed);
+            self.traverse_with::<ORDERED, AVX2, _>(&mut stack, ray, t_max, leaf)
+        }
+    }
+
+    #[inline(always)]
+    fn traverse_with<const ORDERED: bool, const AVX2: bool, S: Stack>(
+        &self,
+        stack: &mut S,
+        ray: &Ray,
+        t_max: &mut f32,
+        mut leaf: impl FnMut(u32, u32, &mut f32) -> Visit,
+    ) -> bool {
+        let q = BoxQuery::new(ray);
+        let mut current = self.root;
+        let mut t = [0.0f32; W];
+        loop {
+            if current & LEAF == 0 {
+                let node = &self.nodes[current as usize];
+                let mut bits = q.test::<AVX2>(node, *t_max, &mut t);
+                if bits == 0 {
+                    match pop(stack, *t_max) {
+                        Some(next) => current = next,
+                        None => return false,
+                    }
+                    continue;
+                }
+                let a = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                if bits == 0 {
+                    current = node.child[a];
+                    continue;
+                }
+                if !ORDERED {
+                    current = node.child[a];
+                    while bits != 0 {
+                        let c = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        stack.push(Entry {
+                            node: node.child[c],
+                            t: t[c],
+                        });
+                    }
+                    continue;
+                }
+                // Two or more children: push them farthest first so the nearest pops first;
+                // the nearest of all is visited now.
+                let mut hits = [Entry {
+                    node: node.child[a],
+                    t: t[a],
+                }; W];
+                let mut n = 1;
+                while bits != 0 {
+                    let c = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let e = Entry {
+                        node: node.child[c],
+                        t: t[c],
+                    };
+                    // Insertion sort by decreasing distance (a few entries).
+                    let mut i = n;
+                    while i > 0 && hits[i - 1].t < e.t {
+                        hits[i] = hits[i - 1];
+                        i -= 1;
+                    }
+                    hits[i] = e;
+                    n += 1;
+                }
+                let nearest = hits[n - 1];
+                for &e in &hits[..n - 1] {
+                    stack.push(e);
+                }
+                current = nearest.node;
+            } else {
+                let first = (current & !LEAF) >> 3;
+                let count = (current & 7) + 1;
+                if let Visit::Stop = leaf(first, count, t_max) {
+                    return true;
+                }
+                match pop(stack, *t_max) {
+                    Some(next) => current = next,
+                    None => return false,
+                }
+            }
+        }
+    }
+}
+
+/// A node waiting on the traversal stack, with the distance at which the ray enters its box.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    node: u32,
+    t: f32,
+}
+
+/// The traversal stack: fixed-size for trees of normal depth, on the heap beyond.
+trait Stack {
+    fn push(&mut self, e: Entry);
+    fn pop(&mut self) -> Option<Entry>;
+}
+
+impl Stack for ArrayVec<Entry, STACK> {
+    #[inline(always)]
+    fn push(&mut self, e: Entry) {
+        ArrayVec::push(self, e)
+    }
+    #[inline(always)]
+    fn pop(&mut self) -> Option<Entry> {
+        ArrayVec::pop(self)
+    }
+}
+
+impl Stack for Vec<Entry> {
+    #[inline(always)]
+    fn push(&mut self, e: Entry) {
+        Vec::push(self, e)
+    }
+    #[inline(always)]
+    fn pop(&mut self) -> Option<Entry> {
+        Vec::pop(self)
+    }
+}
+
+/// The next node on the stack whose box the ray enters before `t_max`.
+#[inline(always)]
+fn pop(stack: &mut impl Stack, t_max: f32) -> Option<u32> {
+    while let Some(e) = stack.pop() {
+        if e.t <= t_max * ROBUST {
+            return Some(e.node);
+        }
+    }
+    None
+}
