@@ -8,6 +8,7 @@ pub mod mesh;
 pub mod mesh_io;
 pub mod normal_map;
 mod sphere;
+pub mod tri_surface;
 pub mod triangle;
 
 use crate::math::float::gamma;
