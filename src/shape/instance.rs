@@ -3,17 +3,21 @@
 //! mesh stays in object space, shared; the acceleration structure traces it once
 //! (`accel::instances`) and each instance computes its hits' surface data in world space from
 //! its three vertices transformed on the fly, with the same arithmetic as the world-space copy
-//! the single-use path makes (`Mesh::transformed`), so both shade alike.
+//! the single-use path makes (`Mesh::transformed`), and the same surface code
+//! (`shape::tri_surface`), so both shade alike. A normal-mapped mesh keeps its object-space
+//! tangents; each hit maps its triangle's three (`normal_map::transform_tangent`).
 
-use super::mesh::{Mesh, Tri, TriangleSurface};
+use super::mesh::{Mesh, TriangleSurface};
+use super::normal_map::{transform_tangent, NormalMapping};
+use super::tri_surface::{self, Corners};
 use crate::math::float::gamma;
 use crate::math::Transform;
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Vec2, Vec3, Vec4};
 use std::sync::Arc;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Instance {
-    /// The shared mesh, in object space (never normal-mapped: such meshes are copied).
+    /// The shared mesh, in object space (a normal map's tangents too).
     pub mesh: Arc<Mesh>,
     pub to_world: Transform,
     /// Negate the transformed shading normals (`flip_normals`).
@@ -49,7 +53,7 @@ impl Instance {
 
     /// Triangle `i` in world space: the values `Mesh::transformed` gives its vertices.
     #[inline]
-    pub fn tri(&self, i: usize) -> Tri {
+    fn corners(&self, i: usize) -> WorldCorners<'_> {
         let idx = self.order(i);
         let m = &self.mesh;
         let t = &self.to_world;
@@ -61,11 +65,23 @@ impl Instance {
                 n
             }
         };
-        Tri {
+        let (has_n, has_uv) = (!m.normals.is_empty(), !m.uvs.is_empty());
+        WorldCorners {
+            inst: self,
             idx,
             p: idx.map(|k| t.point(m.positions[k])),
-            n: (!m.normals.is_empty()).then(|| idx.map(normal)),
-            uv: (!m.uvs.is_empty()).then(|| idx.map(|k| m.uvs[k])),
+            n: if has_n {
+                idx.map(normal)
+            } else {
+                [Vec3::ZERO; 3]
+            },
+            uv: if has_uv {
+                idx.map(|k| m.uvs[k])
+            } else {
+                [Vec2::ZERO; 3]
+            },
+            has_n,
+            has_uv,
         }
     }
 
@@ -100,7 +116,7 @@ impl Instance {
         } else {
             (b1, b2)
         };
-        let mut s = self.tri(i).surface(None, b1, b2);
+        let mut s = tri_surface::surface(&self.corners(i), b1, b2);
         // Rays leaving this point are traced in object space: the world-to-object transform of
         // their origin adds rounding error (γ3 per component, PBR 4th ed. §6.8.4), mapped back
         // to world space, which the origin's offset must clear too.
@@ -109,5 +125,49 @@ impl Instance {
         let e_obj = gamma(3) * (inv_abs * s.p.abs() + inv.w_axis.truncate().abs());
         s.p_error += (1.0 + gamma(3)) * (Mat3::from_mat4(*m).abs() * e_obj);
         s
+    }
+}
+
+/// An instance's triangle with its corners mapped to world space (positions, normals; uvs as
+/// they are), and its object-space vertex indices for the normal map's tangents.
+struct WorldCorners<'a> {
+    inst: &'a Instance,
+    idx: [usize; 3],
+    p: [Vec3; 3],
+    n: [Vec3; 3],
+    uv: [Vec2; 3],
+    has_n: bool,
+    has_uv: bool,
+}
+
+impl Corners for WorldCorners<'_> {
+    #[inline(always)]
+    fn p(&self, j: usize) -> Vec3 {
+        self.p[j]
+    }
+    #[inline(always)]
+    fn has_normals(&self) -> bool {
+        self.has_n
+    }
+    #[inline(always)]
+    fn n(&self, j: usize) -> Vec3 {
+        self.n[j]
+    }
+    #[inline(always)]
+    fn has_uvs(&self) -> bool {
+        self.has_uv
+    }
+    #[inline(always)]
+    fn uv(&self, j: usize) -> Vec2 {
+        self.uv[j]
+    }
+    #[inline(always)]
+    fn normal_map(&self) -> Option<(&NormalMapping, [Vec4; 3])> {
+        let nm = self.inst.mesh.normal_map.as_deref()?;
+        let to_world = &self.inst.to_world;
+        // As the world-space copy's tangents (`Mesh::transformed`), computed per hit.
+        let mirror = to_world.flips_handedness();
+        let t = |j: usize| transform_tangent(to_world, mirror, nm.tangents[self.idx[j]]);
+        Some((nm, [t(0), t(1), t(2)]))
     }
 }

@@ -1,8 +1,9 @@
 //! Triangle meshes in world space, and the built-in rectangle and cube (Mitsuba 3's shapes).
 
-use crate::math::float::gamma;
-use crate::math::{Frame, Transform};
-use glam::{Vec2, Vec3};
+pub use super::tri_surface::TriangleSurface;
+use super::tri_surface::{self, Corners};
+use crate::math::Transform;
+use glam::{Vec2, Vec3, Vec4};
 
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
@@ -14,15 +15,6 @@ pub struct Mesh {
     pub indices: Vec<[u32; 3]>,
     /// A normal map with its tangents (glTF `normalTexture`); None for most meshes.
     pub normal_map: Option<Box<super::normal_map::NormalMapping>>,
-}
-
-/// Surface data at a point of a triangle.
-pub struct TriangleSurface {
-    pub p: Vec3,
-    pub p_error: Vec3,
-    pub ng: Vec3,
-    pub frame: Frame,
-    pub uv: Vec2,
 }
 
 impl Mesh {
@@ -71,8 +63,9 @@ impl Mesh {
         m
     }
 
-    /// Applies `to_world` (normals by the inverse transpose); `flip` reverses the winding, which
-    /// turns the surface's front side around.
+    /// Applies `to_world` (normals by the inverse transpose, a normal map's tangents by the
+    /// linear part, `normal_map::transform_tangent`); `flip` reverses the winding, which turns
+    /// the surface's front side around.
     pub fn transformed(mut self, to_world: &Transform, flip: bool) -> Mesh {
         for p in &mut self.positions {
             *p = to_world.point(*p);
@@ -80,6 +73,12 @@ impl Mesh {
         for n in &mut self.normals {
             let t = to_world.normal(*n).normalize_or_zero();
             *n = if flip { -t } else { t };
+        }
+        if let Some(nm) = &mut self.normal_map {
+            let mirror = to_world.flips_handedness();
+            for t in &mut nm.tangents {
+                *t = super::normal_map::transform_tangent(to_world, mirror, *t);
+            }
         }
         if flip {
             for tri in &mut self.indices {
@@ -104,72 +103,26 @@ impl Mesh {
         0.5 * (b - a).cross(c - a).length()
     }
 
+    /// Triangle `i`'s corners, read from the mesh's arrays.
+    #[inline(always)]
+    fn corners(&self, i: usize) -> MeshCorners<'_> {
+        MeshCorners {
+            m: self,
+            idx: self.indices[i].map(|v| v as usize),
+        }
+    }
+
     /// Position, its error bound, and the unit geometric normal at barycentrics (b1, b2) of
     /// triangle `i`: what emitter sampling needs, without the shading frame.
     #[inline]
     pub fn point(&self, i: usize, b1: f32, b2: f32) -> (Vec3, Vec3, Vec3) {
-        let [i0, i1, i2] = self.indices[i].map(|v| v as usize);
-        let (p0, p1, p2) = (self.positions[i0], self.positions[i1], self.positions[i2]);
-        let b0 = 1.0 - b1 - b2;
-        // Barycentric interpolation is more accurate than o + t·d, and its error is bounded.
-        let p = b0 * p0 + b1 * p1 + b2 * p2;
-        let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
-        let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-        if !self.normals.is_empty() {
-            // The geometric normal follows the shading normal's side, so "front" is the side
-            // the vertex normals point to, whatever the winding.
-            let n = b0 * self.normals[i0] + b1 * self.normals[i1] + b2 * self.normals[i2];
-            if ng.dot(n) < 0.0 {
-                ng = -ng;
-            }
-        }
-        (p, p_error, ng)
+        tri_surface::point(&self.corners(i), b1, b2)
     }
 
     /// Point, normals, shading frame and uv at barycentrics (b1, b2) of triangle `i`.
     #[inline]
     pub fn surface(&self, i: usize, b1: f32, b2: f32) -> TriangleSurface {
-        let (p, p_error, ng) = self.point(i, b1, b2);
-        let [i0, i1, i2] = self.indices[i].map(|v| v as usize);
-        let b0 = 1.0 - b1 - b2;
-        let e1 = self.positions[i1] - self.positions[i0];
-        let (uv, dpdu) = if self.uvs.is_empty() {
-            (Vec2::new(b1, b2), e1)
-        } else {
-            let (uv0, uv1, uv2) = (self.uvs[i0], self.uvs[i1], self.uvs[i2]);
-            // dp/du from the uv parameterisation, for a tangent that follows the texture.
-            let e2 = self.positions[i2] - self.positions[i0];
-            let (duv1, duv2) = (uv1 - uv0, uv2 - uv0);
-            let det = duv1.x * duv2.y - duv1.y * duv2.x;
-            let dpdu = if det.abs() > 1e-12 {
-                (e1 * duv2.y - e2 * duv1.y) / det
-            } else {
-                e1
-            };
-            (b0 * uv0 + b1 * uv1 + b2 * uv2, dpdu)
-        };
-        let ns = if self.normals.is_empty() {
-            ng
-        } else {
-            let n = (b0 * self.normals[i0] + b1 * self.normals[i1] + b2 * self.normals[i2])
-                .normalize_or_zero();
-            if n == Vec3::ZERO {
-                ng
-            } else {
-                n
-            }
-        };
-        let frame = match &self.normal_map {
-            None => Frame::from_normal_tangent(ns, dpdu),
-            Some(nm) => nm.frame([i0, i1, i2], [b0, b1, b2], ns, uv),
-        };
-        TriangleSurface {
-            p,
-            p_error,
-            ng,
-            frame,
-            uv,
-        }
+        tri_surface::surface(&self.corners(i), b1, b2)
     }
 
     /// Checks indices and values; returns the message of the first problem.
@@ -205,89 +158,38 @@ impl Mesh {
     }
 }
 
-/// One triangle's vertices (positions, and normals and uvs where the mesh has them) with their
-/// indices in the mesh: an instance's, transformed to world space on the fly
-/// (`shape::instance`). `Tri::surface` repeats `Mesh::point` and `Mesh::surface` operation for
-/// operation, so an instance shades exactly as its world-space copy would; the mesh keeps its
-/// own copy because routing it through `Tri` cost the flat path 3% more instructions per
-/// sample (callgrind, Cornell box). Keep the two in step.
-pub struct Tri {
-    pub idx: [usize; 3],
-    pub p: [Vec3; 3],
-    pub n: Option<[Vec3; 3]>,
-    pub uv: Option<[Vec2; 3]>,
+/// A world-space mesh's triangle: its vertex indices, its corners read from the arrays.
+struct MeshCorners<'a> {
+    m: &'a Mesh,
+    idx: [usize; 3],
 }
 
-/// `Mesh::point` on vertex data.
-#[inline]
-fn tri_point(p: &[Vec3; 3], n: Option<&[Vec3; 3]>, b1: f32, b2: f32) -> (Vec3, Vec3, Vec3) {
-    let (p0, p1, p2) = (p[0], p[1], p[2]);
-    let b0 = 1.0 - b1 - b2;
-    // Barycentric interpolation is more accurate than o + t·d, and its error is bounded.
-    let p = b0 * p0 + b1 * p1 + b2 * p2;
-    let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
-    let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-    if let Some(nv) = n {
-        // The geometric normal follows the shading normal's side, so "front" is the side
-        // the vertex normals point to, whatever the winding.
-        let n = b0 * nv[0] + b1 * nv[1] + b2 * nv[2];
-        if ng.dot(n) < 0.0 {
-            ng = -ng;
-        }
+impl Corners for MeshCorners<'_> {
+    #[inline(always)]
+    fn p(&self, j: usize) -> Vec3 {
+        self.m.positions[self.idx[j]]
     }
-    (p, p_error, ng)
-}
-
-impl Tri {
-    /// `Mesh::surface` on this triangle's data (`normal_map`: the mesh's, indexed by `idx`).
-    #[inline]
-    pub fn surface(
-        &self,
-        normal_map: Option<&super::normal_map::NormalMapping>,
-        b1: f32,
-        b2: f32,
-    ) -> TriangleSurface {
-        let (p, p_error, ng) = tri_point(&self.p, self.n.as_ref(), b1, b2);
-        let [i0, i1, i2] = self.idx;
-        let b0 = 1.0 - b1 - b2;
-        let e1 = self.p[1] - self.p[0];
-        let (uv, dpdu) = match self.uv {
-            None => (Vec2::new(b1, b2), e1),
-            Some([uv0, uv1, uv2]) => {
-                // dp/du from the uv parameterisation, for a tangent that follows the texture.
-                let e2 = self.p[2] - self.p[0];
-                let (duv1, duv2) = (uv1 - uv0, uv2 - uv0);
-                let det = duv1.x * duv2.y - duv1.y * duv2.x;
-                let dpdu = if det.abs() > 1e-12 {
-                    (e1 * duv2.y - e2 * duv1.y) / det
-                } else {
-                    e1
-                };
-                (b0 * uv0 + b1 * uv1 + b2 * uv2, dpdu)
-            }
-        };
-        let ns = match self.n {
-            None => ng,
-            Some([n0, n1, n2]) => {
-                let n = (b0 * n0 + b1 * n1 + b2 * n2).normalize_or_zero();
-                if n == Vec3::ZERO {
-                    ng
-                } else {
-                    n
-                }
-            }
-        };
-        let frame = match normal_map {
-            None => Frame::from_normal_tangent(ns, dpdu),
-            Some(nm) => nm.frame([i0, i1, i2], [b0, b1, b2], ns, uv),
-        };
-        TriangleSurface {
-            p,
-            p_error,
-            ng,
-            frame,
-            uv,
-        }
+    #[inline(always)]
+    fn has_normals(&self) -> bool {
+        !self.m.normals.is_empty()
+    }
+    #[inline(always)]
+    fn n(&self, j: usize) -> Vec3 {
+        self.m.normals[self.idx[j]]
+    }
+    #[inline(always)]
+    fn has_uvs(&self) -> bool {
+        !self.m.uvs.is_empty()
+    }
+    #[inline(always)]
+    fn uv(&self, j: usize) -> Vec2 {
+        self.m.uvs[self.idx[j]]
+    }
+    #[inline(always)]
+    fn normal_map(&self) -> Option<(&super::normal_map::NormalMapping, [Vec4; 3])> {
+        let nm = self.m.normal_map.as_deref()?;
+        let t = &nm.tangents;
+        Some((nm, [t[self.idx[0]], t[self.idx[1]], t[self.idx[2]]]))
     }
 }
 

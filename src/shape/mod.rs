@@ -2,33 +2,25 @@
 //! all in world space (an `Instance` is a shared mesh placed by a transform, world space in what
 //! it reports). Each is split into primitives for the acceleration structure.
 
+mod disk;
 pub mod instance;
 pub mod mesh;
 pub mod mesh_io;
 pub mod normal_map;
+mod sphere;
+pub mod tri_surface;
 pub mod triangle;
 
 use crate::math::float::gamma;
-use crate::math::{sampling, Frame, Transform};
+use crate::math::Frame;
+use disk::intersect_disk;
+pub use disk::Disk;
 use glam::{Vec2, Vec3};
 pub use instance::Instance;
 pub use mesh::Mesh;
+use sphere::intersect_sphere;
+pub use sphere::Sphere;
 use std::f32::consts::PI;
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct Sphere {
-    pub center: Vec3,
-    pub radius: f32,
-    /// Normals point inward (the front side is the inside).
-    pub flip: bool,
-}
-
-/// The unit disk in the local z = 0 plane (normal +z), placed by `to_world`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Disk {
-    pub to_world: Transform,
-    pub flip: bool,
-}
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
@@ -132,68 +124,6 @@ impl PrimGeom {
     }
 }
 
-/// Ray/disk: the ray in the disk's object space meets z = 0 inside the unit circle; (b1, b2) are
-/// the object-space (x, y) of the hit.
-#[inline]
-fn intersect_disk(
-    ray: &crate::ray::Ray,
-    to_object: &[glam::Vec4; 3],
-    t_max: f32,
-) -> Option<PrimHit> {
-    let o = ray.o.extend(1.0);
-    let d = ray.d.extend(0.0);
-    let (oz, dz) = (to_object[2].dot(o), to_object[2].dot(d));
-    if dz == 0.0 {
-        return None;
-    }
-    let t = -oz / dz;
-    if !(t > 0.0 && t < t_max) {
-        return None;
-    }
-    let x = to_object[0].dot(o) + t * to_object[0].dot(d);
-    let y = to_object[1].dot(o) + t * to_object[1].dot(d);
-    (x * x + y * y <= 1.0).then_some(PrimHit { t, b1: x, b2: y })
-}
-
-/// Ray/sphere intersection in f64 with the numerically stable root pair (the discriminant is
-/// formed from the perpendicular distance, which does not cancel for distant spheres).
-#[inline]
-fn intersect_sphere(
-    ray: &crate::ray::Ray,
-    center: Vec3,
-    radius: f32,
-    t_max: f32,
-) -> Option<PrimHit> {
-    let o = ray.o.as_dvec3() - center.as_dvec3();
-    let d = ray.d.as_dvec3();
-    let r = radius as f64;
-    let b = o.dot(d);
-    let perp = o - b * d;
-    let disc = r * r - perp.length_squared();
-    if disc < 0.0 {
-        return None;
-    }
-    let c = o.length_squared() - r * r;
-    let q = -b - disc.sqrt().copysign(b);
-    let (mut t0, mut t1) = if q != 0.0 { (c / q, q) } else { (0.0, 0.0) };
-    if t0 > t1 {
-        std::mem::swap(&mut t0, &mut t1);
-    }
-    let t_max = t_max as f64;
-    let t = if t0 > 0.0 && t0 < t_max {
-        t0
-    } else if t1 > 0.0 && t1 < t_max {
-        t1
-    } else {
-        return None;
-    };
-    Some(PrimHit {
-        t: t as f32,
-        b1: 0.0,
-        b2: 0.0,
-    })
-}
-
 impl Shape {
     pub fn prim_count(&self) -> usize {
         match self {
@@ -283,147 +213,6 @@ impl Shape {
                     .cross(d.to_world.vector(Vec3::Y))
                     .length()
             }
-        }
-    }
-}
-
-impl Sphere {
-    fn surface_at(&self, hit: Vec3) -> SurfacePoint {
-        // Reproject onto the sphere: the error then depends only on |p|, not on the ray length.
-        let dir = (hit - self.center).normalize();
-        let p = self.center + dir * self.radius;
-        let p_error = gamma(5) * (self.center.abs() + (dir * self.radius).abs());
-        let n = if self.flip { -dir } else { dir };
-        let phi = dir.y.atan2(dir.x);
-        let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
-        let theta = dir.z.clamp(-1.0, 1.0).acos();
-        let dpdu = Vec3::new(-dir.y, dir.x, 0.0);
-        SurfacePoint {
-            p,
-            p_error,
-            ng: n,
-            frame: Frame::from_normal_tangent(n, dpdu),
-            uv: Vec2::new(phi / (2.0 * PI), theta / PI),
-        }
-    }
-
-    /// Uniform point on the whole sphere.
-    pub fn sample_area(&self, u: Vec2) -> AreaSample {
-        let dir = sampling::square_to_uniform_sphere(u);
-        let s = self.surface_at(self.center + dir * self.radius);
-        AreaSample {
-            p: s.p,
-            p_error: s.p_error,
-            n: s.ng,
-            pdf_area: 1.0 / (4.0 * PI * self.radius * self.radius),
-        }
-    }
-
-    /// 1 − cos θ_max of the cone the sphere subtends from `p` (None if `p` is inside), computed
-    /// without cancellation so a tiny distant sphere keeps an accurate, non-zero cone.
-    pub fn cone_one_minus_cos(&self, p: Vec3) -> Option<f32> {
-        let dc2 = (self.center - p).length_squared();
-        let r2 = self.radius * self.radius;
-        if dc2 <= r2 * (1.0 + 1e-4) {
-            return None;
-        }
-        let sin2 = r2 / dc2;
-        let cos = (1.0 - sin2).max(0.0).sqrt();
-        Some(sin2 / (1.0 + cos))
-    }
-
-    /// A point on the part of the sphere visible from `p`, uniform in solid angle (the cone
-    /// method), or uniform in area when `p` is inside. Returns the sample and its solid-angle pdf.
-    pub fn sample_from(&self, p: Vec3, u: Vec2) -> (AreaSample, f32) {
-        let Some(omc) = self.cone_one_minus_cos(p) else {
-            let s = self.sample_area(u);
-            let to = s.p - p;
-            let d2 = to.length_squared();
-            let cos = s.n.dot(-to / d2.sqrt()).abs();
-            let pdf = if cos > 0.0 {
-                s.pdf_area * d2 / cos
-            } else {
-                0.0
-            };
-            return (s, pdf);
-        };
-        let to_c = self.center - p;
-        let dc = to_c.length();
-        let frame = Frame::from_normal(to_c / dc);
-        // θ from the cone axis: 1 − cos θ = u·omc and sin²θ = (1 − cos θ)(1 + cos θ), never
-        // formed by subtracting from 1 (for a tiny light that would leave a few distinct angles).
-        let one_minus_cos_t = u.x * omc;
-        let cos_t = 1.0 - one_minus_cos_t;
-        let sin2_t = one_minus_cos_t * (2.0 - one_minus_cos_t);
-        // Angle α at the centre between −axis and the surface point the direction hits first:
-        // cos α = sin²θ / sin θmax + cos θ · √(1 − sin²θ / sin²θmax), free of cancellation.
-        let r = self.radius;
-        let sin_max = r / dc;
-        let ratio = (sin2_t / (sin_max * sin_max)).min(1.0);
-        let cos_a = (sin2_t / sin_max + cos_t * (1.0 - ratio).sqrt()).clamp(-1.0, 1.0);
-        let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
-        let (sp, cp) = (2.0 * PI * u.y).sin_cos();
-        let local = Vec3::new(sin_a * cp, sin_a * sp, cos_a);
-        let dir = -frame.to_world(local);
-        let s = self.surface_at(self.center + dir * r);
-        let pdf = 1.0 / (2.0 * PI * omc);
-        (
-            AreaSample {
-                p: s.p,
-                p_error: s.p_error,
-                n: s.ng,
-                pdf_area: 0.0,
-            },
-            pdf,
-        )
-    }
-
-    /// Solid-angle pdf of `sample_from(p, ·)` choosing the surface point `q` with normal `n`.
-    pub fn pdf_from(&self, p: Vec3, q: Vec3, n: Vec3) -> f32 {
-        match self.cone_one_minus_cos(p) {
-            Some(omc) => 1.0 / (2.0 * PI * omc),
-            None => {
-                let to = q - p;
-                let d2 = to.length_squared();
-                let cos = n.dot(to / d2.sqrt()).abs();
-                if cos > 0.0 {
-                    d2 / (cos * 4.0 * PI * self.radius * self.radius)
-                } else {
-                    0.0
-                }
-            }
-        }
-    }
-}
-
-impl Disk {
-    fn surface_at(&self, local: Vec2) -> SurfacePoint {
-        let (p, p_error) = self.to_world.point_with_error(local.extend(0.0));
-        let mut n = self.to_world.normal(Vec3::Z).normalize();
-        if self.flip {
-            n = -n;
-        }
-        let r = local.length();
-        let phi = local.y.atan2(local.x);
-        let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
-        let dpdu = self.to_world.vector(Vec3::new(-local.y, local.x, 0.0));
-        SurfacePoint {
-            p,
-            p_error,
-            ng: n,
-            frame: Frame::from_normal_tangent(n, dpdu),
-            uv: Vec2::new(r, phi / (2.0 * PI)),
-        }
-    }
-
-    /// Uniform point on the (possibly elliptical) disk: an affine map keeps uniform density.
-    pub fn sample_area(&self, u: Vec2, area: f32) -> AreaSample {
-        let s = self.surface_at(sampling::square_to_disk_concentric(u));
-        AreaSample {
-            p: s.p,
-            p_error: s.p_error,
-            n: s.ng,
-            pdf_area: 1.0 / area,
         }
     }
 }

@@ -8,12 +8,13 @@ use crate::bsdf::Material;
 use crate::config::{spectrum_ctx, EmitterConfig, Role, ShapeConfig, ShapeKind};
 use crate::error::InputError;
 use crate::math::Transform;
-use crate::shape::normal_map::{mikktspace_tangents, NormalMapping};
-use crate::shape::{Mesh, Shape};
+use crate::shape::normal_map::{mikktspace_tangents, transform_tangent, NormalMapping};
+use crate::shape::{Instance, Mesh, Shape};
 use crate::spectrum::Curve;
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::Arc;
 
 /// One mesh primitive placed in the world.
 pub struct Primitive {
@@ -24,11 +25,15 @@ pub struct Primitive {
     pub name: String,
     /// (mesh, primitive) indices in the file.
     pub source: (usize, usize),
-    /// Per-vertex tangents (xyz, w = bitangent sign), world space, if the file has them.
-    pub tangents: Vec<[f32; 4]>,
-    /// The shared mesh and its placement, where the mesh is instanced (`walk_with`); `mesh`
-    /// and `tangents` are then empty.
-    pub instance: Option<crate::shape::Instance>,
+    /// Per-vertex tangents (xyz, w = bitangent sign) in mesh space, if the file has them;
+    /// shared by every use of the primitive.
+    pub tangents: Arc<Vec<[f32; 4]>>,
+    /// The primitive's mesh in mesh space, shared by all its uses, and its placement
+    /// (`swap_winding`: the node mirrors).
+    pub placement: Instance,
+    /// Whether the mesh is instanced (`walk_with`): `placement` is then the shape and `mesh`
+    /// is empty.
+    pub instanced: bool,
 }
 
 /// What the walk over the default scene finds.
@@ -44,7 +49,7 @@ pub struct Walk {
 }
 
 /// A local mesh read once per (mesh, primitive), with its tangents.
-type LocalMesh = (std::sync::Arc<Mesh>, Vec<[f32; 4]>);
+type LocalMesh = (Arc<Mesh>, Arc<Vec<[f32; 4]>>);
 
 /// Walks the default scene (or the first, if the file names none) under `to_world`, every
 /// primitive copied into world space.
@@ -53,8 +58,8 @@ pub fn walk(model: &Model, to_world: Mat4, warnings: &mut Vec<String>) -> Result
 }
 
 /// As `walk`; with `instancing`, a mesh under several nodes is not copied but instanced
-/// (`Primitive::instance`), unless its material emits or is normal-mapped (those need
-/// world-space triangles and tangents).
+/// (`Primitive::instanced`), unless its material emits (area lights sample world-space
+/// triangles); a normal-mapped one keeps its tangents in mesh space (`expand`).
 pub fn walk_with(
     model: &Model,
     to_world: Mat4,
@@ -139,11 +144,16 @@ pub fn walk_with(
                     continue;
                 };
                 let material = prim.material();
+                let placement = Instance {
+                    mesh: local_mesh.clone(),
+                    to_world: t,
+                    negate_normals: false,
+                    swap_winding: mirror,
+                };
                 if instancing
                     && uses[mesh.index()] > 1
                     && material.emissive_factor().iter().all(|&c| c == 0.0)
                     && material.emissive_texture().is_none()
-                    && material.normal_texture().is_none()
                 {
                     for p in &local_mesh.positions {
                         let p = t.point(*p);
@@ -155,13 +165,9 @@ pub fn walk_with(
                         material: material.index(),
                         source: key,
                         name: name.clone(),
-                        tangents: Vec::new(),
-                        instance: Some(crate::shape::Instance {
-                            mesh: local_mesh.clone(),
-                            to_world: t,
-                            negate_normals: false,
-                            swap_winding: mirror,
-                        }),
+                        tangents: tangents.clone(),
+                        placement,
+                        instanced: true,
                     });
                     continue;
                 }
@@ -169,14 +175,6 @@ pub fn walk_with(
                 if mirror {
                     m.indices.iter_mut().for_each(|tri| tri.swap(1, 2));
                 }
-                let tangents = tangents
-                    .iter()
-                    .map(|t4| {
-                        let v = world.transform_vector3(Vec3::new(t4[0], t4[1], t4[2]));
-                        let v = v.normalize_or_zero();
-                        [v.x, v.y, v.z, if mirror { -t4[3] } else { t4[3] }]
-                    })
-                    .collect();
                 for p in &m.positions {
                     let b = w.bounds.get_or_insert((*p, *p));
                     *b = (b.0.min(*p), b.1.max(*p));
@@ -186,8 +184,9 @@ pub fn walk_with(
                     material: prim.material().index(),
                     source: key,
                     name: name.clone(),
-                    tangents,
-                    instance: None,
+                    tangents: tangents.clone(),
+                    placement,
+                    instanced: false,
                 });
             }
         }
@@ -277,7 +276,7 @@ fn read_primitive(
             .field(&field)
             .hint("the accessors of this primitive disagree; re-export the model")
     })?;
-    Ok(Some((std::sync::Arc::new(mesh), tangents)))
+    Ok(Some((Arc::new(mesh), Arc::new(tangents))))
 }
 
 /// A material reference of an expanded shape.
@@ -393,6 +392,10 @@ pub fn expand(
         None => None,
     };
     let mut mats = GltfMaterials::new(&model);
+    // Per (mesh, primitive): its normal map's tangents in mesh space, and its normal-mapped
+    // shared mesh where instanced.
+    let mut local_tangents: HashMap<(usize, usize), Option<Arc<Vec<Vec4>>>> = HashMap::new();
+    let mut mapped: HashMap<(usize, usize), Arc<Mesh>> = HashMap::new();
     let mut out = Expanded {
         shapes: Vec::new(),
         materials: Vec::new(),
@@ -423,43 +426,81 @@ pub fn expand(
             }
         };
         let emission = area.clone().or(emission);
-        let mut mesh = p.mesh;
-        if let Some(mut inst) = p.instance {
-            if sc.flip_normals {
-                inst.negate_normals = !inst.negate_normals;
-                inst.swap_winding = !inst.swap_winding;
-            }
-            if emission.is_none() && normal_map.is_none() {
-                out.shapes.push(ExpandedShape {
-                    shape: Shape::Instance(inst),
-                    material,
-                    emission,
-                    name: Some(p.name),
-                });
-                continue;
-            }
-            // The walk instances only meshes whose material neither emits nor maps normals;
-            // should one (an override's) need world-space triangles, it gets its copy.
-            mesh = inst.flatten();
-        } else if sc.flip_normals {
-            mesh = mesh.transformed(&Transform::IDENTITY, true);
+        // A normal map's tangents in mesh space, once per primitive: the file's, else
+        // MikkTSpace's on the mesh as the file gives it (glTF 2.0 §3.7.2.1: from the specified
+        // positions, normals and uvs), so every use maps the same tangents.
+        let tangents = normal_map.as_ref().and_then(|_| {
+            local_tangents
+                .entry(p.source)
+                .or_insert_with(|| {
+                    let m = &p.placement.mesh;
+                    if !p.tangents.is_empty() {
+                        Some(Arc::new(
+                            p.tangents.iter().map(|t| Vec4::from(*t)).collect(),
+                        ))
+                    } else if !m.normals.is_empty() && !m.uvs.is_empty() {
+                        mikktspace_tangents(&m.positions, &m.normals, &m.uvs, &m.indices)
+                            .map(Arc::new)
+                    } else {
+                        None
+                    }
+                })
+                .clone()
+        });
+        if normal_map.is_some() && tangents.is_none() {
+            warnings.push(format!(
+                "{}: {}: the normal map needs NORMAL and TEXCOORD_0 (or TANGENT) on the mesh; it is ignored",
+                full.display(),
+                p.name
+            ));
         }
-        if let Some(map) = normal_map {
-            let tangents = if !p.tangents.is_empty() {
-                Some(p.tangents.iter().map(|t| glam::Vec4::from(*t)).collect())
-            } else if !mesh.normals.is_empty() && !mesh.uvs.is_empty() {
-                mikktspace_tangents(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices)
+        let normal_map = normal_map.zip(tangents);
+        let mut inst = p.placement;
+        let mirror = inst.to_world.flips_handedness();
+        if sc.flip_normals {
+            inst.negate_normals = !inst.negate_normals;
+            inst.swap_winding = !inst.swap_winding;
+        }
+        let mut mesh = if !p.instanced {
+            if sc.flip_normals {
+                p.mesh.transformed(&Transform::IDENTITY, true)
             } else {
-                None
-            };
-            match tangents {
-                Some(tangents) => mesh.normal_map = Some(Box::new(NormalMapping { tangents, map })),
-                None => warnings.push(format!(
-                    "{}: {}: the normal map needs NORMAL and TEXCOORD_0 (or TANGENT) on the mesh; it is ignored",
-                    full.display(),
-                    p.name
-                )),
+                p.mesh
             }
+        } else if emission.is_none() {
+            if let Some((map, tangents)) = normal_map {
+                // One normal-mapped copy of the mesh (tangents in mesh space) for all its uses.
+                inst.mesh = mapped
+                    .entry(p.source)
+                    .or_insert_with(|| {
+                        Arc::new(Mesh {
+                            normal_map: Some(Box::new(NormalMapping {
+                                tangents: tangents.to_vec(),
+                                map,
+                            })),
+                            ..Mesh::clone(&inst.mesh)
+                        })
+                    })
+                    .clone();
+            }
+            out.shapes.push(ExpandedShape {
+                shape: Shape::Instance(inst),
+                material,
+                emission,
+                name: Some(p.name),
+            });
+            continue;
+        } else {
+            // The walk instances only meshes whose material does not emit; should one (an
+            // override's) need world-space triangles, it gets its copy.
+            inst.flatten()
+        };
+        if let Some((map, tangents)) = normal_map {
+            let tangents = tangents
+                .iter()
+                .map(|t| transform_tangent(&inst.to_world, mirror, *t))
+                .collect();
+            mesh.normal_map = Some(Box::new(NormalMapping { tangents, map }));
         }
         out.shapes.push(ExpandedShape {
             shape: Shape::Mesh(mesh),

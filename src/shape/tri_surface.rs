@@ -1,0 +1,99 @@
+//! Surface data at a point of a triangle, computed from its three corners: one definition for a
+//! world-space mesh (`Mesh`, corners read straight from its arrays) and for an instance
+//! (`Instance`, corners of the shared object-space mesh mapped to world space first), so an
+//! instance shades exactly as its world-space copy would. Generic over how the corners are read:
+//! each caller gets its own monomorphised copy, and the mesh's is the code it had on its own
+//! (callgrind counts of the Cornell box are in docs/performance.md).
+
+use super::normal_map::NormalMapping;
+use crate::math::float::gamma;
+use crate::math::Frame;
+use glam::{Vec2, Vec3, Vec4};
+
+/// Surface data at a point of a triangle.
+pub struct TriangleSurface {
+    pub p: Vec3,
+    pub p_error: Vec3,
+    pub ng: Vec3,
+    pub frame: Frame,
+    pub uv: Vec2,
+}
+
+/// A triangle's corners j = 0, 1, 2 in world space, in the triangle's winding.
+pub trait Corners {
+    fn p(&self, j: usize) -> Vec3;
+    /// Whether the mesh has per-vertex shading normals (`n`; else flat shading).
+    fn has_normals(&self) -> bool;
+    fn n(&self, j: usize) -> Vec3;
+    /// Whether the mesh has texture coordinates (`uv`).
+    fn has_uvs(&self) -> bool;
+    fn uv(&self, j: usize) -> Vec2;
+    /// The mesh's normal map and the corners' world-space tangents (xyz, bitangent sign w);
+    /// None for a mesh without one.
+    fn normal_map(&self) -> Option<(&NormalMapping, [Vec4; 3])>;
+}
+
+/// Position, its error bound, and the unit geometric normal at barycentrics (b1, b2): what
+/// emitter sampling needs, without the shading frame.
+#[inline(always)]
+pub fn point<C: Corners>(c: &C, b1: f32, b2: f32) -> (Vec3, Vec3, Vec3) {
+    let (p0, p1, p2) = (c.p(0), c.p(1), c.p(2));
+    let b0 = 1.0 - b1 - b2;
+    // Barycentric interpolation is more accurate than o + t·d, and its error is bounded.
+    let p = b0 * p0 + b1 * p1 + b2 * p2;
+    let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
+    let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+    if c.has_normals() {
+        // The geometric normal follows the shading normal's side, so "front" is the side
+        // the vertex normals point to, whatever the winding.
+        let n = b0 * c.n(0) + b1 * c.n(1) + b2 * c.n(2);
+        if ng.dot(n) < 0.0 {
+            ng = -ng;
+        }
+    }
+    (p, p_error, ng)
+}
+
+/// Point, normals, shading frame and uv at barycentrics (b1, b2).
+#[inline(always)]
+pub fn surface<C: Corners>(c: &C, b1: f32, b2: f32) -> TriangleSurface {
+    let (p, p_error, ng) = point(c, b1, b2);
+    let b0 = 1.0 - b1 - b2;
+    let e1 = c.p(1) - c.p(0);
+    let (uv, dpdu) = if !c.has_uvs() {
+        (Vec2::new(b1, b2), e1)
+    } else {
+        let (uv0, uv1, uv2) = (c.uv(0), c.uv(1), c.uv(2));
+        // dp/du from the uv parameterisation, for a tangent that follows the texture.
+        let e2 = c.p(2) - c.p(0);
+        let (duv1, duv2) = (uv1 - uv0, uv2 - uv0);
+        let det = duv1.x * duv2.y - duv1.y * duv2.x;
+        let dpdu = if det.abs() > 1e-12 {
+            (e1 * duv2.y - e2 * duv1.y) / det
+        } else {
+            e1
+        };
+        (b0 * uv0 + b1 * uv1 + b2 * uv2, dpdu)
+    };
+    let ns = if !c.has_normals() {
+        ng
+    } else {
+        let n = (b0 * c.n(0) + b1 * c.n(1) + b2 * c.n(2)).normalize_or_zero();
+        if n == Vec3::ZERO {
+            ng
+        } else {
+            n
+        }
+    };
+    let frame = match c.normal_map() {
+        None => Frame::from_normal_tangent(ns, dpdu),
+        Some((nm, t)) => nm.frame(t, [b0, b1, b2], ns, uv),
+    };
+    TriangleSurface {
+        p,
+        p_error,
+        ng,
+        frame,
+        uv,
+    }
+}
