@@ -1,7 +1,7 @@
 //! Which shapes become instances (`shape::Instance`, traced by `accel::instances`) rather than
 //! world-space copies: a RON `Mesh` file named by two or more shapes, a glTF mesh under two or
-//! more nodes (`scene::gltf`). Each such mesh is read once and shared. A mesh used once, an
-//! emitting shape (area lights sample world-space triangles), a normal-mapped glTF mesh, the
+//! more nodes (`scene::gltf`, emissive ones included). Each such mesh is read once and shared. A
+//! mesh used once, an emitting RON shape, a normal-mapped glTF mesh, the
 //! `Embree` and `BruteForce` backends and `flatten: true` keep the world-space copy, so scenes
 //! without repeated meshes build and render exactly as before.
 

@@ -8,6 +8,7 @@
 //! Every problem a user can fix (bad JSON, a missing buffer or image, an extension prism cannot
 //! decode) is an `InputError` naming the glTF file and the JSON field.
 
+mod emission;
 mod lights;
 mod materials;
 mod nodes;
@@ -319,7 +320,7 @@ pub(super) fn add_shapes(
         };
         let emitter = s.emission.map(|radiance| {
             emitters.push(crate::emitter::Emitter::Area(
-                crate::emitter::AreaEmitter::new(shapes.len() as u32, &s.shape, radiance),
+                crate::emitter::AreaEmitter::with_radiance(shapes.len() as u32, &s.shape, radiance),
             ));
             (emitters.len() - 1) as u32
         });

@@ -5,12 +5,12 @@ use super::lights::{self, GltfCamera, GltfLight};
 use super::materials::GltfMaterials;
 use super::Model;
 use crate::bsdf::Material;
-use crate::config::{spectrum_ctx, EmitterConfig, Role, ShapeConfig, ShapeKind};
+use crate::config::{EmitterConfig, ShapeConfig, ShapeKind};
+use crate::emitter::AreaRadiance;
 use crate::error::InputError;
 use crate::math::Transform;
 use crate::shape::normal_map::{mikktspace_tangents, NormalMapping};
 use crate::shape::{Mesh, Shape};
-use crate::spectrum::Curve;
 use glam::{Mat4, Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
@@ -53,8 +53,9 @@ pub fn walk(model: &Model, to_world: Mat4, warnings: &mut Vec<String>) -> Result
 }
 
 /// As `walk`; with `instancing`, a mesh under several nodes is not copied but instanced
-/// (`Primitive::instance`), unless its material emits or is normal-mapped (those need
-/// world-space triangles and tangents).
+/// (`Primitive::instance`), unless its material is normal-mapped (that needs world-space
+/// tangents). Emissive meshes are instanced too: an area light samples an instance's
+/// triangles through its transform (`AreaEmitter`).
 pub fn walk_with(
     model: &Model,
     to_world: Mat4,
@@ -139,12 +140,7 @@ pub fn walk_with(
                     continue;
                 };
                 let material = prim.material();
-                if instancing
-                    && uses[mesh.index()] > 1
-                    && material.emissive_factor().iter().all(|&c| c == 0.0)
-                    && material.emissive_texture().is_none()
-                    && material.normal_texture().is_none()
-                {
+                if instancing && uses[mesh.index()] > 1 && material.normal_texture().is_none() {
                     for p in &local_mesh.positions {
                         let p = t.point(*p);
                         let b = w.bounds.get_or_insert((p, p));
@@ -294,7 +290,7 @@ pub struct ExpandedShape {
     pub shape: Shape,
     pub material: MatRef,
     /// Area-light radiance (emissive material or the shape's `emitter`).
-    pub emission: Option<Curve>,
+    pub emission: Option<AreaRadiance>,
     pub name: Option<String>,
 }
 
@@ -339,8 +335,8 @@ pub fn expand(
             full.display()
         ));
     }
-    // An `emitter` on the include makes every shape an area light: no instances then.
-    let walk = walk_with(&model, t.m, instancing && sc.emitter.is_none(), warnings)?;
+    // An `emitter` on the include makes every shape an area light, instanced or not.
+    let walk = walk_with(&model, t.m, instancing, warnings)?;
     let lookup = |name: &str, f: String| -> Result<u32, InputError> {
         names
             .iter()
@@ -383,9 +379,11 @@ pub fn expand(
         by_name.insert(gltf_name.as_str(), lookup(prism_name, f)?);
     }
     let area = match &sc.emitter {
-        Some(e) => Some(e.radiance.resolve(
-            Role::Emission,
-            &spectrum_ctx(file, &format!("{field}.emitter.radiance"), range),
+        Some(e) => Some(crate::scene::emission::area_radiance(
+            &e.radiance,
+            file,
+            &format!("{field}.emitter.radiance"),
+            range,
             warnings,
         )?),
         None => None,
@@ -426,7 +424,7 @@ pub fn expand(
                 inst.negate_normals = !inst.negate_normals;
                 inst.swap_winding = !inst.swap_winding;
             }
-            if emission.is_none() && normal_map.is_none() {
+            if normal_map.is_none() {
                 out.shapes.push(ExpandedShape {
                     shape: Shape::Instance(inst),
                     material,
@@ -435,8 +433,8 @@ pub fn expand(
                 });
                 continue;
             }
-            // The walk instances only meshes whose material neither emits nor maps normals;
-            // should one (an override's) need world-space triangles, it gets its copy.
+            // The walk instances only meshes whose material maps no normals; should one (an
+            // override's) need world-space tangents, it gets its copy.
             mesh = inst.flatten();
         } else if sc.flip_normals {
             mesh = mesh.transformed(&Transform::IDENTITY, true);
