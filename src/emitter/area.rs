@@ -124,57 +124,75 @@ impl AreaEmitter {
         }
     }
 
-    /// A point on the shape by area (by the triangle weights when textured; for emitter
-    /// sampling the caller handles the sphere case by its cone).
+    /// A uniform point on the shape (area measure; for emitter sampling the caller handles the
+    /// sphere case by its cone). Uniform lights only: a textured one samples by its triangle
+    /// weights (`sample_area_uv`).
     pub fn sample_area(&self, u: Vec2, shape: &Shape) -> AreaSample {
-        self.sample_area_uv(u, shape).0
-    }
-
-    /// `sample_area` with the point's uv (zero on spheres and disks, which are never textured).
-    #[inline(always)]
-    pub fn sample_area_uv(&self, u: Vec2, shape: &Shape) -> (AreaSample, Vec2) {
         match shape {
             Shape::Mesh(m) => {
                 let (tri, _, ux) = self.triangles.as_ref().unwrap().sample_discrete(u.x);
                 let b = square_to_triangle(Vec2::new(ux, u.y));
                 let (p, p_error, n) = m.point(tri, b.x, b.y);
-                let (pdf_area, uv) = if self.tri_pdf.is_empty() {
-                    (1.0 / self.area, Vec2::ZERO)
-                } else {
-                    (self.tri_pdf[tri], mesh_uv(m, tri, b))
-                };
-                (
-                    AreaSample {
-                        p,
-                        p_error,
-                        n,
-                        pdf_area,
-                    },
-                    uv,
-                )
+                AreaSample {
+                    p,
+                    p_error,
+                    n,
+                    pdf_area: 1.0 / self.area,
+                }
             }
             Shape::Instance(inst) => {
                 let (tri, _, ux) = self.triangles.as_ref().unwrap().sample_discrete(u.x);
                 let b = square_to_triangle(Vec2::new(ux, u.y));
                 let s = inst.surface(tri, b.x, b.y);
-                let pdf_area = if self.tri_pdf.is_empty() {
-                    1.0 / self.area
-                } else {
-                    self.tri_pdf[tri]
-                };
-                (
-                    AreaSample {
-                        p: s.p,
-                        p_error: s.p_error,
-                        n: s.ng,
-                        pdf_area,
-                    },
-                    s.uv,
-                )
+                AreaSample {
+                    p: s.p,
+                    p_error: s.p_error,
+                    n: s.ng,
+                    pdf_area: 1.0 / self.area,
+                }
             }
-            Shape::Sphere(s) => (s.sample_area(u), Vec2::ZERO),
-            Shape::Disk(d) => (d.sample_area(u, self.area), Vec2::ZERO),
+            Shape::Sphere(s) => s.sample_area(u),
+            Shape::Disk(d) => d.sample_area(u, self.area),
         }
+    }
+
+    /// A point on the shape with its uv: `sample_area` for a uniform light (uv unused, zero),
+    /// else by the triangle weights, out of line, so a uniform light runs the code it ran
+    /// before textures existed.
+    #[inline(always)]
+    pub fn sample_area_uv(&self, u: Vec2, shape: &Shape) -> (AreaSample, Vec2) {
+        if self.tri_pdf.is_empty() {
+            (self.sample_area(u, shape), Vec2::ZERO)
+        } else {
+            self.sample_area_textured(u, shape)
+        }
+    }
+
+    #[inline(never)]
+    fn sample_area_textured(&self, u: Vec2, shape: &Shape) -> (AreaSample, Vec2) {
+        let (tri, _, ux) = self.triangles.as_ref().unwrap().sample_discrete(u.x);
+        let b = square_to_triangle(Vec2::new(ux, u.y));
+        let pdf_area = self.tri_pdf[tri];
+        let (p, p_error, n, uv) = match shape {
+            Shape::Mesh(m) => {
+                let (p, p_error, n) = m.point(tri, b.x, b.y);
+                (p, p_error, n, mesh_uv(m, tri, b))
+            }
+            Shape::Instance(inst) => {
+                let s = inst.surface(tri, b.x, b.y);
+                (s.p, s.p_error, s.ng, s.uv)
+            }
+            _ => unreachable!("only meshes and instances have triangle densities"),
+        };
+        (
+            AreaSample {
+                p,
+                p_error,
+                n,
+                pdf_area,
+            },
+            uv,
+        )
     }
 
     /// `sample_point` with the radiance evaluated.
