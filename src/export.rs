@@ -29,7 +29,10 @@
 //!   | {"type": "bitmap", "filename", "raw", "filter", "wrap", "uv_scale", "uv_offset"}
 //! shape: {"type": "mesh", "filename", "has_normals", ...} | {"type": "sphere", "center", "radius"}
 //!   | {"type": "disk", "to_world"}, each with "flip_normals", "material" (index), "emitter" (index or null)
-//! emitter: {"type": "area", "shape", "radiance"} | {"type": "point", "position", "intensity"}
+//! emitter: {"type": "area", "shape", "radiance"} (radiance: a spectrum, or a textured light's
+//!     {"type": "bitmap", "filename" (null for an image embedded in a glTF file), "raw", "filter",
+//!     "wrap", "uv_scale", "uv_offset", "factor": [r, g, b]}: the image's linear RGB × factor, each
+//!     texel uplifted as an illuminant) | {"type": "point", "position", "intensity"}
 //!   | {"type": "constant", "radiance"}
 //!   | {"type": "spot", "intensity", "cutoff_angle", "beam_width", "to_world"} (angles in degrees)
 //!   | {"type": "directional", "direction" (the way the light travels, unit), "irradiance"}
@@ -38,7 +41,7 @@
 //! ```
 
 use crate::bsdf::{microfacet::Distribution, Material};
-use crate::emitter::Emitter;
+use crate::emitter::{AreaRadiance, Emitter};
 use crate::error::Error;
 use crate::filter::Filter;
 use crate::scene::Job;
@@ -311,9 +314,21 @@ impl Ctx {
 
     fn emitter(&self, e: &Emitter) -> Value {
         match e {
-            Emitter::Area(a) => {
-                json!({"type": "area", "shape": a.shape, "radiance": self.spectrum(&a.radiance)})
-            }
+            Emitter::Area(a) => match &a.radiance {
+                AreaRadiance::Uniform(c) => {
+                    json!({"type": "area", "shape": a.shape, "radiance": self.spectrum(c)})
+                }
+                // The image's RGB times `factor`, each texel uplifted as an illuminant.
+                AreaRadiance::Textured(t) => {
+                    let (wrap, filter, map) = t.placement();
+                    let (scale, offset) = Self::uv(&map);
+                    let src = t.source();
+                    json!({"type": "area", "shape": a.shape, "radiance": {"type": "bitmap",
+                        "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())),
+                        "raw": src.is_some_and(|s| s.raw), "filter": filter_name(filter), "wrap": wrap_name(wrap),
+                        "uv_scale": scale, "uv_offset": offset, "factor": t.factor}})
+                }
+            },
             Emitter::Point {
                 position,
                 intensity,

@@ -78,7 +78,7 @@ pub struct ImageSource {
 impl<T: Copy> Grid<T> {
     /// The (up to) four texels around `uv` with their bilinear weights.
     #[inline]
-    fn taps(&self, uv: Vec2) -> [(T, f32); 4] {
+    pub(crate) fn taps(&self, uv: Vec2) -> [(T, f32); 4] {
         let p = self.map.apply(uv);
         let (w, h) = (self.width as f32, self.height as f32);
         match self.filter {

@@ -588,10 +588,13 @@ fn one() -> f32 {
 }
 
 /// `emitter: (radiance: Rgb(18.4, 14.0, 6.8))` on a shape: emits from its front side.
+/// On a triangle mesh the radiance may be a texture over its uv (`scene::emission`):
+/// `emitter: (radiance: Scaled(5, Bitmap(path: "panel.exr", filter: Nearest)))`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AreaEmitterConfig {
-    /// Radiance, W m⁻² sr⁻¹ nm⁻¹ (an `Rgb` is uplifted as an illuminant, times D65).
+    /// Radiance, W m⁻² sr⁻¹ nm⁻¹ (an `Rgb`, or each texel of a `Bitmap`, is uplifted as an
+    /// illuminant, times D65).
     pub radiance: SpectrumConfig,
 }
 

@@ -30,8 +30,9 @@ use std::path::Path;
 /// Bitmap(path: "wood.png", filter: Bilinear, wrap: Repeat, raw: false, uv_scale: (1, 1))  // a texture
 /// ```
 ///
-/// Textures are allowed where a material parameter varies over a surface (reflectances);
-/// emitters and indices of refraction take plain spectra.
+/// Textures are allowed where a material parameter varies over a surface (reflectances), and a
+/// `Bitmap` as a shape's area-emitter radiance (`scene::emission`); other emitters and indices
+/// of refraction take plain spectra.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum SpectrumConfig {

@@ -5,6 +5,7 @@
 
 mod area;
 mod envmap;
+mod radiance;
 mod spot;
 
 use crate::interaction::SurfaceInteraction;
@@ -15,6 +16,7 @@ use crate::spectrum::{Curve, Spectrum, Wavelengths};
 pub use area::{AreaEmitter, AreaLightSample};
 pub use envmap::{BrightCells, EnvMap};
 use glam::{Vec2, Vec3};
+pub use radiance::{AreaRadiance, EmissionTexel, EmissionTexture};
 pub use spot::Spot;
 
 #[derive(Clone, Debug)]

@@ -395,7 +395,8 @@ impl<'a> Caustics<'a> {
         ))
     }
 
-    /// A light path leaving area light `light`: a uniform point on it, a direction uniform in
+    /// A light path leaving area light `light`: a point on it (by area, or by the triangle weights
+    /// of a textured light; its radiance at that point), a direction uniform in
     /// the cone of one target (chosen by the cones' solid angles); its ray and throughput.
     fn emit_from_area<const N: usize>(
         &self,
@@ -404,7 +405,7 @@ impl<'a> Caustics<'a> {
         wl: &Wavelengths<N>,
         u2: &mut impl FnMut() -> Vec2,
     ) -> Option<(Ray, Spectrum<N>)> {
-        let p = light.sample_area(u2(), &scene.shapes[light.shape as usize]);
+        let (p, uv) = light.sample_area_uv(u2(), &scene.shapes[light.shape as usize]);
         // 1 − cos of each target's cone from p (2: p is inside its bounding sphere).
         let cones = || {
             self.targets.iter().map(move |t| {
@@ -443,7 +444,7 @@ impl<'a> Caustics<'a> {
             .count()
             .max(1);
         let pdf_dir = covering as f32 / (2.0 * std::f32::consts::PI * total);
-        let le = light.radiance.eval(wl);
+        let le = light.radiance.eval(uv, wl);
         let ray = crate::ray::spawn(p.p, p.p_error, p.n, d);
         Some((ray, le * (cos_light / (p.pdf_area * pdf_dir))))
     }

@@ -343,7 +343,7 @@ fn area_light_points_and_directions_match_their_density() {
         830.0,
     )
     .sample::<1>(0.37);
-    let le = light.radiance.eval(&wl)[0] as f64;
+    let le = light.radiance.eval(Vec2::ZERO, &wl)[0] as f64;
     let mut rng = Pcg32::new(0x5eed, 7);
     let mut u2 = || Vec2::new(rng.next_f32(), rng.next_f32());
     let mut observed = vec![0.0; 4 * NT * NP];

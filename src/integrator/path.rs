@@ -7,14 +7,14 @@
 
 use super::caustics::{CausticSettings, Caustics};
 use crate::bsdf::{Bsdf, BsdfLike};
-use crate::emitter::{AreaEmitter, Emitter};
+use crate::emitter::{AreaEmitter, AreaRadiance, Emitter};
 use crate::interaction::SurfaceInteraction;
 use crate::math::sampling::power_heuristic;
 use crate::ray::Ray;
 use crate::sampler::{PixelSampler, BOUNCE_DIMS, CAMERA_DIMS};
 use crate::scene::Scene;
 use crate::spectrum::{Spectrum, Wavelengths};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 /// Settings of the `path` integrator, with Mitsuba 3's names and defaults.
@@ -142,7 +142,9 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool, const CAUSTICS: bool>(
             let em = &scene.emitters[e as usize];
             // Area lights emit from their front side only.
             let le = match em {
-                Emitter::Area(a) if show && si.ng.dot(-ray.d) > 0.0 => path.le_memo.get(e, a, wl),
+                Emitter::Area(a) if show && si.ng.dot(-ray.d) > 0.0 => {
+                    path.le_memo.get(e, a, si.uv, wl)
+                }
                 _ => Spectrum::zero(),
             };
             if !le.is_zero() {
@@ -234,14 +236,17 @@ struct Path<const N: usize> {
 /// Where an emitter sample's radiance comes from (see `Path::scatter`).
 enum Le<'a, const N: usize> {
     Value(Spectrum<N>),
-    Area(&'a AreaEmitter),
+    /// An area light, and the uv of the sampled point on it.
+    Area(&'a AreaEmitter, Vec2),
     Envmap(&'a crate::emitter::EnvMap),
 }
 
-/// An area light's radiance at the path's lanes, kept for the light the path last sampled or
-/// hit. It is the same all over the light, and the lanes stay fixed along the path, so a path
-/// in a one-light scene (the Cornell box) evaluates it once instead of at every bounce (the RGB
-/// uplift times D65 there was 6% of the render).
+/// An area light's radiance at the path's lanes, kept for the uniform light the path last
+/// sampled or hit. It is the same all over the light, and the lanes stay fixed along the path,
+/// so a path in a one-light scene (the Cornell box) evaluates it once instead of at every
+/// bounce (the RGB uplift times D65 there was 6% of the render). A textured light is never
+/// memoised (its radiance depends on the point): it is looked up at each point's uv, on the
+/// memo's miss branch, so the uniform case's hit path is what it was.
 struct LeMemo<const N: usize> {
     emitter: u32,
     le: Spectrum<N>,
@@ -250,12 +255,17 @@ struct LeMemo<const N: usize> {
 impl<const N: usize> LeMemo<N> {
     const NONE: u32 = u32::MAX;
 
-    /// The radiance of area emitter `a` (emitter index `e`).
+    /// The radiance of area emitter `a` (emitter index `e`) at the point of uv `uv` on it.
     #[inline(always)]
-    fn get(&mut self, e: u32, a: &AreaEmitter, wl: &Wavelengths<N>) -> Spectrum<N> {
+    fn get(&mut self, e: u32, a: &AreaEmitter, uv: Vec2, wl: &Wavelengths<N>) -> Spectrum<N> {
         if self.emitter != e {
-            self.le = a.radiance.eval(wl);
-            self.emitter = e;
+            match &a.radiance {
+                AreaRadiance::Uniform(c) => {
+                    self.le = c.eval(wl);
+                    self.emitter = e;
+                }
+                AreaRadiance::Textured(t) => return t.eval(uv, wl),
+            }
         }
         self.le
     }
@@ -294,7 +304,7 @@ impl<const N: usize> Path<N> {
             let sample = match em {
                 Emitter::Area(a) => a
                     .sample_point(si, u_light, &scene.shapes)
-                    .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area(a))),
+                    .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area(a, s.uv))),
                 Emitter::Envmap(m) => m
                     .sample(u_light)
                     .map(|(wi, pdf)| (wi, si.spawn(wi), pdf, false, Le::Envmap(m))),
@@ -309,7 +319,7 @@ impl<const N: usize> Path<N> {
                 if !taken && !f.is_zero() && !scene.occluded(&shadow) {
                     let le = match radiance {
                         Le::Value(le) => le,
-                        Le::Area(a) => self.le_memo.get(e as u32, a, wl),
+                        Le::Area(a, uv) => self.le_memo.get(e as u32, a, uv, wl),
                         Le::Envmap(m) => m.eval(wi_light, wl),
                     };
                     let light_pdf = self.select_pdf * pdf;
@@ -379,7 +389,7 @@ mod tests {
         let blue = AreaEmitter::new(1, &sphere, Curve::rgb_illuminant([0.1, 0.1, 4.0]));
         let wl: Wavelengths<8> =
             WavelengthSampler::new(WavelengthSampling::Visible, 360.0, 830.0).sample(0.3);
-        let want = |a: &AreaEmitter| a.radiance.eval(&wl);
+        let want = |a: &AreaEmitter| a.radiance.eval(Vec2::ZERO, &wl);
         let mut memo = LeMemo {
             emitter: LeMemo::<8>::NONE,
             le: Spectrum::zero(),
@@ -392,7 +402,7 @@ mod tests {
             (1, &blue),
             (1, &blue),
         ] {
-            assert_eq!(memo.get(e, em, &wl), want(em), "emitter {e}");
+            assert_eq!(memo.get(e, em, Vec2::ZERO, &wl), want(em), "emitter {e}");
         }
         assert_ne!(want(&red), want(&blue));
     }

@@ -3,7 +3,7 @@
 
 use super::{emitters, geometry, materials, Scene};
 use crate::bsdf::Material;
-use crate::config::{self, spectrum_ctx, Role, SceneConfig};
+use crate::config::{self, SceneConfig};
 use crate::emitter::{AreaEmitter, Emitter};
 use crate::error::{Error, InputError};
 use crate::film::FilmChannels;
@@ -318,12 +318,11 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         };
         let emitter = match &sc.emitter {
             Some(e) => {
-                let radiance = e.radiance.resolve(
-                    Role::Emission,
-                    &spectrum_ctx(file, &format!("{field}.emitter.radiance"), range),
-                    &mut warnings,
-                )?;
-                emitters.push(Emitter::Area(AreaEmitter::new(
+                let f = format!("{field}.emitter.radiance");
+                let radiance =
+                    super::emission::area_radiance(&e.radiance, file, &f, range, &mut warnings)?;
+                super::emission::check_shape(&radiance, &shape, file, &f)?;
+                emitters.push(Emitter::Area(AreaEmitter::with_radiance(
                     shapes.len() as u32,
                     &shape,
                     radiance,

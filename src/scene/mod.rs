@@ -4,6 +4,7 @@
 
 mod build;
 mod camera;
+mod emission;
 mod emitters;
 pub mod extent;
 mod geometry;

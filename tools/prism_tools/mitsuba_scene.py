@@ -112,6 +112,25 @@ def _bitmap(t: dict[str, Any], scalar: bool = False) -> dict[str, Any]:
     return d
 
 
+def _emission_bitmap(t: dict[str, Any]) -> dict[str, Any]:
+    """A textured area light's radiance. Mitsuba 3.9's spectral variants uplift a bitmap's texels
+    as bounded reflectances (RGB clamped to [0, 1]) and do not multiply an area light's bitmap by
+    D65 themselves, so it goes inside a `d65` spectrum (which takes a nested texture and a
+    scale). prism's illuminant uplift of the same RGB times D65 has the same colour, so an image
+    in [0, 1] times a grey factor renders alike; other cases cannot be written for Mitsuba. The
+    scale is undone by `y_normalization_correction`, as for environment maps."""
+    f = [float(x) for x in t["factor"]]
+    if max(f) - min(f) > 1e-6 * max(f):
+        raise Unsupported(f"a textured area light times the coloured factor {f} (Mitsuba's d65 scale is grey)")
+    image = mi.Bitmap(str(t["filename"]))
+    if t["raw"]:
+        image.set_srgb_gamma(False)
+    rgb = np.array(image.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False))
+    if rgb.max() > 1.0 + 1e-6:
+        raise Unsupported("a textured area light with texels above 1 (Mitsuba's bitmap clamps them)")
+    return {"type": "d65", "nested": _bitmap(t), "scale": f[0] / y_normalization_correction()}
+
+
 def texture(t: dict[str, Any]) -> dict[str, Any]:
     """A spectral texture (reflectance)."""
     if t["type"] == "checkerboard":
@@ -215,6 +234,8 @@ def material(m: dict[str, Any]) -> dict[str, Any]:
 def emitter(e: dict[str, Any]) -> dict[str, Any]:
     kind = e["type"]
     if kind == "area":
+        if e["radiance"]["type"] == "bitmap":
+            return {"type": "area", "radiance": _emission_bitmap(e["radiance"])}
         return {"type": "area", "radiance": spectrum(e["radiance"])}
     if kind == "point":
         return {"type": "point", "position": [float(x) for x in e["position"]], "intensity": spectrum(e["intensity"])}

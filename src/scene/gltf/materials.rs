@@ -4,13 +4,15 @@
 //! roughness from the B and G channels, specular from A, transmission from R),
 //! KHR_texture_transform (offset, scale, rotation, texCoord) maps the uvs, a primitive carries
 //! the TEXCOORD set its textures read, alpha MASK and BLEND wrap the material in a `Mask`,
-//! emission (times KHR_materials_emissive_strength) makes the shape an area light, and
+//! emission (times KHR_materials_emissive_strength, textured or not: `emission`) makes the
+//! shape an area light, and
 //! KHR_materials_dispersion (read from the raw JSON) makes a transmissive material a dispersive
 //! dielectric. The occlusion texture is ignored on purpose (see `texture_sets`).
 
 use super::Model;
 use crate::bsdf::microfacet::Distribution;
 use crate::bsdf::{Material, PrincipledParams, SpecularColorTexture};
+use crate::emitter::AreaRadiance;
 use crate::error::InputError;
 use crate::scene::principled::{f0_from_ior, rgb_factor};
 use crate::spectrum::{rgb2spec, Curve, Ior, RelativeIor};
@@ -27,11 +29,11 @@ pub struct GltfMaterials<'a> {
 }
 
 /// A built material: its index, its emission and its normal map.
-pub type Built = (usize, Option<Curve>, Option<Arc<Grid<Vec3>>>);
+pub type Built = (usize, Option<AreaRadiance>, Option<Arc<Grid<Vec3>>>);
 
 /// An image's texels as RGBA floats in [0, 1] (8- and 16-bit channels; missing ones: G = B = R
 /// for grey images, A = 1).
-fn rgba(img: &gltf::image::Data) -> Vec<[f32; 4]> {
+pub(super) fn rgba(img: &gltf::image::Data) -> Vec<[f32; 4]> {
     use gltf::image::Format::*;
     let (ch, bytes) = match img.format {
         R8 => (1, 1),
@@ -117,7 +119,7 @@ impl Xform {
 }
 
 /// Where a texture sits (KHR_texture_transform, rotation included).
-fn uv_map(info: &gltf::texture::Info) -> UvMap {
+pub(super) fn uv_map(info: &gltf::texture::Info) -> UvMap {
     Xform::map(Xform::of(info).as_ref())
 }
 
@@ -150,6 +152,7 @@ fn texture_sets(m: &gltf::Material) -> Vec<(&'static str, u32)> {
     if let Some(t) = m.transmission() {
         push("transmissionTexture", t.transmission_texture());
     }
+    push("emissiveTexture", m.emissive_texture());
     if let Some(n) = m.normal_texture() {
         let x = Xform::of_json(n.extension_value("KHR_texture_transform"));
         v.push((
@@ -168,7 +171,7 @@ pub fn uv_set(m: &gltf::Material) -> u32 {
 }
 
 /// Wrap and filter from the texture's sampler (mirrored repeat is read as repeat).
-fn sampling(tex: &gltf::Texture) -> (Wrap, TexFilter) {
+pub(super) fn sampling(tex: &gltf::Texture) -> (Wrap, TexFilter) {
     use gltf::texture::{MagFilter, WrappingMode};
     let s = tex.sampler();
     let wrap = match s.wrap_s() {
@@ -295,7 +298,7 @@ impl<'a> GltfMaterials<'a> {
         &self,
         m: &gltf::Material,
         warn: &mut Vec<String>,
-    ) -> Result<(Material, Option<Curve>), InputError> {
+    ) -> Result<(Material, Option<AreaRadiance>), InputError> {
         let label = match (m.index(), m.name()) {
             (Some(i), Some(n)) => format!("materials[{i}] (\"{n}\")"),
             (Some(i), None) => format!("materials[{i}]"),
@@ -422,9 +425,6 @@ impl<'a> GltfMaterials<'a> {
         if m.volume().is_some_and(|v| v.thickness_factor() > 0.0) && transmission_f > 0.0 {
             warn.push(format!("{}: {label}: KHR_materials_volume is rendered thin-walled (no refraction or attenuation) unless the material has KHR_materials_dispersion", self.model.path.display()));
         }
-        if m.emissive_texture().is_some() {
-            warn.push(format!("{}: {label}: emissiveTexture is not supported; emissiveFactor is used as a uniform emission", self.model.path.display()));
-        }
         let dispersion = m
             .extension_value("KHR_materials_dispersion")
             .and_then(|v| v.get("dispersion"))
@@ -493,10 +493,7 @@ impl<'a> GltfMaterials<'a> {
                 };
             }
         }
-        let e = m.emissive_factor();
-        let strength = m.emissive_strength().unwrap_or(1.0);
-        let emission = (e.iter().any(|&c| c > 0.0) && strength > 0.0)
-            .then(|| Curve::rgb_illuminant(e.map(|c| c * strength)));
+        let emission = super::emission::radiance(m, &self.model.images);
         Ok((mat, emission))
     }
 }

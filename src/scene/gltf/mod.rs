@@ -9,6 +9,7 @@
 //! decode) is an `InputError` naming the glTF file and the JSON field.
 
 mod checks;
+mod emission;
 mod lights;
 mod materials;
 mod nodes;
@@ -323,7 +324,7 @@ pub(super) fn add_shapes(
         };
         let emitter = s.emission.map(|radiance| {
             emitters.push(crate::emitter::Emitter::Area(
-                crate::emitter::AreaEmitter::new(shapes.len() as u32, &s.shape, radiance),
+                crate::emitter::AreaEmitter::with_radiance(shapes.len() as u32, &s.shape, radiance),
             ));
             (emitters.len() - 1) as u32
         });

@@ -5,12 +5,12 @@ use super::lights::{self, GltfCamera, GltfLight};
 use super::materials::GltfMaterials;
 use super::Model;
 use crate::bsdf::Material;
-use crate::config::{spectrum_ctx, EmitterConfig, Role, ShapeConfig, ShapeKind};
+use crate::config::{EmitterConfig, ShapeConfig, ShapeKind};
+use crate::emitter::AreaRadiance;
 use crate::error::InputError;
 use crate::math::Transform;
 use crate::shape::normal_map::{mikktspace_tangents, transform_tangent, NormalMapping};
 use crate::shape::{Instance, Mesh, Shape};
-use crate::spectrum::Curve;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use std::collections::HashMap;
 use std::path::Path;
@@ -58,8 +58,8 @@ pub fn walk(model: &Model, to_world: Mat4, warnings: &mut Vec<String>) -> Result
 }
 
 /// As `walk`; with `instancing`, a mesh under several nodes is not copied but instanced
-/// (`Primitive::instanced`), unless its material emits (area lights sample world-space
-/// triangles); a normal-mapped one keeps its tangents in mesh space (`expand`).
+/// (`Primitive::instanced`); a normal-mapped one keeps its tangents in mesh space, and an
+/// emissive one is an area light sampled through its transform (`AreaEmitter`).
 pub fn walk_with(
     model: &Model,
     to_world: Mat4,
@@ -150,11 +150,7 @@ pub fn walk_with(
                     negate_normals: false,
                     swap_winding: mirror,
                 };
-                if instancing
-                    && uses[mesh.index()] > 1
-                    && material.emissive_factor().iter().all(|&c| c == 0.0)
-                    && material.emissive_texture().is_none()
-                {
+                if instancing && uses[mesh.index()] > 1 {
                     for p in &local_mesh.positions {
                         let p = t.point(*p);
                         let b = w.bounds.get_or_insert((p, p));
@@ -293,7 +289,7 @@ pub struct ExpandedShape {
     pub shape: Shape,
     pub material: MatRef,
     /// Area-light radiance (emissive material or the shape's `emitter`).
-    pub emission: Option<Curve>,
+    pub emission: Option<AreaRadiance>,
     pub name: Option<String>,
 }
 
@@ -340,8 +336,8 @@ pub fn expand(
             full.display()
         ));
     }
-    // An `emitter` on the include makes every shape an area light: no instances then.
-    let walk = walk_with(&model, t.m, instancing && sc.emitter.is_none(), warnings)?;
+    // An `emitter` on the include makes every shape an area light, instanced or not.
+    let walk = walk_with(&model, t.m, instancing, warnings)?;
     let lookup = |name: &str, f: String| -> Result<u32, InputError> {
         names
             .iter()
@@ -384,9 +380,11 @@ pub fn expand(
         by_name.insert(gltf_name.as_str(), lookup(prism_name, f)?);
     }
     let area = match &sc.emitter {
-        Some(e) => Some(e.radiance.resolve(
-            Role::Emission,
-            &spectrum_ctx(file, &format!("{field}.emitter.radiance"), range),
+        Some(e) => Some(crate::scene::emission::area_radiance(
+            &e.radiance,
+            file,
+            &format!("{field}.emitter.radiance"),
+            range,
             warnings,
         )?),
         None => None,
@@ -467,7 +465,7 @@ pub fn expand(
             } else {
                 p.mesh
             }
-        } else if emission.is_none() {
+        } else {
             if let Some((map, tangents)) = normal_map {
                 // One normal-mapped copy of the mesh (tangents in mesh space) for all its uses.
                 inst.mesh = mapped
@@ -490,10 +488,6 @@ pub fn expand(
                 name: Some(p.name),
             });
             continue;
-        } else {
-            // The walk instances only meshes whose material does not emit; should one (an
-            // override's) need world-space triangles, it gets its copy.
-            inst.flatten()
         };
         if let Some((map, tangents)) = normal_map {
             let tangents = tangents
