@@ -18,6 +18,8 @@ pub enum Kind {
     Spectrum,
     Mesh,
     Texture,
+    /// A `.gltf` or `.glb` file, or an external buffer (`.bin`) it names.
+    Gltf,
 }
 
 const MIB: u64 = 1 << 20;
@@ -30,6 +32,7 @@ impl Kind {
             Kind::Spectrum => 16 * MIB,
             Kind::Mesh => 4096 * MIB,
             Kind::Texture => 1024 * MIB,
+            Kind::Gltf => 4096 * MIB,
         }
     }
 
@@ -39,6 +42,7 @@ impl Kind {
             Kind::Spectrum => "spectrum file",
             Kind::Mesh => "mesh file",
             Kind::Texture => "image file",
+            Kind::Gltf => "glTF file",
         }
     }
 }

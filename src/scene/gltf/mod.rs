@@ -14,6 +14,7 @@ mod lights;
 mod materials;
 mod nodes;
 
+use crate::config::input_file::{self, Kind};
 use crate::error::InputError;
 use serde_json::Value;
 use std::cell::RefCell;
@@ -107,9 +108,8 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
     #[cfg(test)]
     OPENED.with(|n| n.set(n.get() + 1));
     crate::scene::inputs::record(path);
-    let bytes = std::fs::read(path).map_err(|e| {
-        InputError::new(path, format!("cannot read the glTF file: {e}"))
-            .hint("glTF paths in a scene are relative to the scene file")
+    let bytes = input_file::read(path, Kind::Gltf).map_err(|e| {
+        InputError::new(path, e).hint("glTF paths in a scene are relative to the scene file")
     })?;
     let (json_bytes, blob): (Vec<u8>, Option<Vec<u8>>) = if bytes.starts_with(b"glTF") {
         let glb = gltf::Glb::from_slice(&bytes).map_err(|e| {
@@ -207,6 +207,7 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
             gltf::buffer::Source::Uri(u) if u.starts_with("data:") => "its data URI".to_string(),
             gltf::buffer::Source::Uri(u) => {
                 crate::scene::inputs::record(&base.join(u));
+                check_external(path, base, u, Kind::Gltf, &format!("{field}.uri"))?;
                 format!("\"{u}\"")
             }
             gltf::buffer::Source::Bin => "the GLB's BIN chunk".to_string(),
@@ -242,6 +243,7 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
             }
             gltf::image::Source::Uri { uri, .. } => {
                 crate::scene::inputs::record(&base.join(uri));
+                check_external(path, base, uri, Kind::Texture, &format!("{field}.uri"))?;
                 format!("\"{uri}\"")
             }
             gltf::image::Source::View { view, .. } => format!("bufferViews[{}]", view.index()),
@@ -263,6 +265,40 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
         images,
         path: path.to_path_buf(),
         ignored_extensions,
+    })
+}
+
+/// Checks the file an external buffer or image URI names before the crate reads it: a regular
+/// file within `kind`'s limit (a FIFO or `/dev/zero` would block or be read until memory runs
+/// out), and a relative URI whose percent-decoding is UTF-8 (the crate unwraps that decoding).
+/// A URI of another scheme is left to the crate, which refuses it.
+fn check_external(
+    path: &Path,
+    base: &Path,
+    uri: &str,
+    kind: Kind,
+    field: &str,
+) -> Result<(), InputError> {
+    let file = if let Some(rest) = uri.strip_prefix("file://").or(uri.strip_prefix("file:")) {
+        PathBuf::from(rest)
+    } else if uri.contains(':') {
+        return Ok(());
+    } else {
+        match urlencoding::decode(uri) {
+            Ok(p) => base.join(&*p),
+            Err(_) => {
+                return Err(err(
+                    path,
+                    field,
+                    format!("the URI \"{uri}\" does not decode to UTF-8 text"),
+                )
+                .hint("URIs are percent-encoded UTF-8 (RFC 3986): re-export the model, or rename the file it names"))
+            }
+        }
+    };
+    input_file::open(&file, kind).map(drop).map_err(|e| {
+        err(path, field, e)
+            .hint("external files are relative to the glTF file: keep them beside it")
     })
 }
 
@@ -354,5 +390,41 @@ mod tests {
         // The model is used up: a second load reads it again (once).
         crate::scene::load(&path, |_| {}).unwrap();
         assert_eq!(opened() - before, 2);
+    }
+
+    /// A device or FIFO as the glTF file or as one of its buffers or images, and a URI whose
+    /// percent-decoding is not UTF-8, are errors naming the file and field, not a read that
+    /// never ends (the fuzzer's `Gltf(path: "/dev/zero")` took 23 GB) or the crate's panic.
+    #[test]
+    fn devices_and_bad_uris_are_refused() {
+        let dir = std::env::temp_dir().join(format!("prism-gltf-uris-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let e = super::open(std::path::Path::new("/dev/zero"))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("`/dev/zero` is a device"), "{e}");
+        let doc = |buffer: &str, image: &str| {
+            format!(
+                r#"{{"asset": {{"version": "2.0"}}, "buffers": [{{"byteLength": 4, "uri": "{buffer}"}}], "images": [{{"uri": "{image}"}}]}}"#
+            )
+        };
+        let ok_buf = "data:application/octet-stream;base64,AAAAAA==";
+        for (buffer, image, want) in [
+            ("/dev/zero", "a.png", "buffers[0].uri"),
+            ("file:///dev/zero", "a.png", "buffers[0].uri"),
+            ("%ff.bin", "a.png", "does not decode to UTF-8"),
+            (ok_buf, "/dev/zero", "images[0].uri"),
+        ] {
+            let p = dir.join("m.gltf");
+            std::fs::write(&p, doc(buffer, image)).unwrap();
+            let e = super::open(&p).err().unwrap().to_string();
+            assert!(
+                e.contains(want) && e.contains("m.gltf"),
+                "{buffer} {image}: {e}"
+            );
+            assert!(buffer == ok_buf || !e.contains("images"), "{e}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
