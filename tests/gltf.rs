@@ -355,12 +355,12 @@ fn bad_gltf_input_is_reported() {
         (
             "missing_buffer",
             r#"{"asset": {"version": "2.0"}, "buffers": [{"uri": "gone.bin", "byteLength": 36}]}"#.into(),
-            vec!["buffers[0].uri", "\"gone.bin\"", "beside"],
+            vec!["buffers[0].uri", "gone.bin` does not exist", "beside"],
         ),
         (
             "missing_image",
             r#"{"asset": {"version": "2.0"}, "images": [{"uri": "gone.png"}]}"#.into(),
-            vec!["images[0]", "\"gone.png\"", "PNG or JPEG"],
+            vec!["images[0].uri", "gone.png` does not exist", "beside"],
         ),
         (
             "bad_accessor",
