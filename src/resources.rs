@@ -3,7 +3,7 @@
 //! too large for the machine is refused at load with the figure and the fix, instead of growing
 //! until the kernel kills the process.
 //!
-//! The estimate follows the buffers the code allocates (integrator/mod.rs, caustics.rs,
+//! The estimate follows the buffers the code allocates (integrator/mod.rs, caustics/mod.rs,
 //! film.rs, output/exr.rs): per pixel, `slots` accumulators (X, Y, Z and one per spectral band)
 //! as f32 twice while tiles are gathered (plus f64 ones for caustic light tracing), then the
 //! film's channels, then a copy of them and the compressed blocks for the EXR encoder. What is already loaded (meshes,
@@ -85,7 +85,7 @@ pub fn estimate(p: &Plan) -> Estimate {
         p.threads as u64 * tile,
     ));
     if p.caustics {
-        // A batch of light paths' splats (integrator/caustics.rs: 64 chunks of 4096 paths), two
+        // A batch of light paths' splats (integrator/caustics/mod.rs: 64 chunks of 4096 paths), two
         // per path on average: pixel, radiance, wavelengths and pdfs.
         parts.push((
             "caustic light paths' splats".into(),

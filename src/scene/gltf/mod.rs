@@ -10,6 +10,7 @@
 
 mod checks;
 mod emission;
+mod expand;
 mod lights;
 mod materials;
 mod nodes;
@@ -20,9 +21,10 @@ use serde_json::Value;
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
+pub use expand::{expand, Expanded, ExpandedShape, MatRef};
 pub use lights::{scene_config, scene_for, GltfCamera, GltfLight};
 pub use materials::dispersion_abbe;
-pub use nodes::{expand, walk, Expanded, ExpandedShape, MatRef, Primitive, Walk};
+pub use nodes::{walk, Primitive, Walk};
 
 /// Extensions prism reads (or can safely ignore when a file requires them).
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[

@@ -37,18 +37,17 @@
 use super::RenderSettings;
 use crate::bsdf::{Bsdf, BsdfLike};
 use crate::emitter::{AreaEmitter, BrightCells, Emitter, EnvMap};
-use crate::interaction::SurfaceInteraction;
 use crate::math::distribution::Distribution1D;
 use crate::math::rng::{hash3, Pcg32};
-use crate::math::sampling::{square_to_disk_concentric, square_to_uniform_cone};
-use crate::math::Frame;
-use crate::ray::Ray;
 use crate::scene::Scene;
 use crate::sensor::Sensor;
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+mod connect;
+mod emit;
 
 /// Settings of caustic light tracing (`integrator.caustics`); off when left out.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -360,156 +359,7 @@ impl<'a> Caustics<'a> {
             ray = si.spawn(wo_world);
         }
     }
-
-    /// A light path arriving from infinity, travelling along `dir` with radiance (or, for a
-    /// directional light, irradiance) `le` and direction density `pdf_dir`: its ray, starting
-    /// on a target's disk facing the light, and its throughput.
-    fn emit_from_infinity<const N: usize>(
-        &self,
-        dir: Vec3,
-        le: Spectrum<N>,
-        pdf_dir: f32,
-        u2: &mut impl FnMut() -> Vec2,
-    ) -> Option<(Ray, Spectrum<N>)> {
-        let (t, _, _) = self.by_area.sample_discrete(u2().x);
-        let frame = Frame::from_normal(dir);
-        let disk = square_to_disk_concentric(u2()) * self.targets[t].radius;
-        let q = self.targets[t].center + frame.to_world(Vec3::new(disk.x, disk.y, 0.0));
-        // Density of that point in the plane: every disk covering it could have produced it.
-        let covering = self
-            .targets
-            .iter()
-            .filter(|t| {
-                let v = t.center - q;
-                (v - v.dot(dir) * dir).length_squared() <= t.radius * t.radius
-            })
-            .count();
-        if covering == 0 || pdf_dir.is_nan() || pdf_dir <= 0.0 {
-            return None;
-        }
-        // Start outside the scene's bounding sphere, upstream of the plane.
-        let o = q + dir * ((self.center - q).dot(dir) - self.radius);
-        Some((
-            Ray::new(o, dir),
-            le * (self.total_area / (covering as f32 * pdf_dir)),
-        ))
-    }
-
-    /// A light path leaving area light `light`: a point on it (by area, or by the triangle weights
-    /// of a textured light; its radiance at that point), a direction uniform in
-    /// the cone of one target (chosen by the cones' solid angles); its ray and throughput.
-    fn emit_from_area<const N: usize>(
-        &self,
-        scene: &Scene,
-        light: &AreaEmitter,
-        wl: &Wavelengths<N>,
-        u2: &mut impl FnMut() -> Vec2,
-    ) -> Option<(Ray, Spectrum<N>)> {
-        let (p, uv) = light.sample_area_uv(u2(), &scene.shapes[light.shape as usize]);
-        // 1 − cos of each target's cone from p (2: p is inside its bounding sphere).
-        let cones = || {
-            self.targets.iter().map(move |t| {
-                let v = t.center - p.p;
-                let s2 = t.radius * t.radius / v.length_squared();
-                let omc = if s2 >= 1.0 {
-                    2.0
-                } else {
-                    s2 / (1.0 + (1.0 - s2).sqrt())
-                };
-                (v.normalize_or_zero(), omc)
-            })
-        };
-        let total: f32 = cones().map(|(_, omc)| omc).sum();
-        let u = u2();
-        let mut pick = u.x * total;
-        let (axis, omc) = cones()
-            .find(|&(_, omc)| {
-                pick -= omc;
-                pick < 0.0
-            })
-            .or_else(|| cones().next_back())?;
-        let local = square_to_uniform_cone(u2(), 1.0 - omc);
-        let d = if omc >= 2.0 {
-            local
-        } else {
-            Frame::from_normal(axis).to_world(local)
-        };
-        let cos_light = p.n.dot(d);
-        if cos_light.is_nan() || cos_light <= 0.0 || p.pdf_area.is_nan() || p.pdf_area <= 0.0 {
-            return None;
-        }
-        // Every cone holding d could have produced it: pdf = count / Σ (2π (1 − cos)).
-        let covering = cones()
-            .filter(|&(a, omc)| omc >= 2.0 || 1.0 - d.dot(a) <= omc)
-            .count()
-            .max(1);
-        let pdf_dir = covering as f32 / (2.0 * std::f32::consts::PI * total);
-        let le = light.radiance.eval(uv, wl);
-        let ray = crate::ray::spawn(p.p, p.p_error, p.n, d);
-        Some((ray, le * (cos_light / (p.pdf_area * pdf_dir))))
-    }
-
-    /// Connects light-path vertex `si` (light arriving from `towards_light`, throughput `beta`)
-    /// to the camera and splats what the camera sees through the pixel filter.
-    #[allow(clippy::too_many_arguments)]
-    fn connect<const N: usize>(
-        &self,
-        scene: &Scene,
-        settings: &RenderSettings,
-        si: &SurfaceInteraction,
-        bsdf: &Bsdf<N>,
-        towards_light: Vec3,
-        beta: Spectrum<N>,
-        wl: &Wavelengths<N>,
-        out: &mut Vec<Splat<N>>,
-    ) {
-        let Some(pr) = scene.camera.project(si.p, settings.filter.radius()) else {
-            return;
-        };
-        let (wc, wo) = (si.frame.to_local(pr.wi), si.frame.to_local(towards_light));
-        // f · |cos θ| at the light's side, in the shading frame.
-        let f = bsdf.eval(wc, wo);
-        let cos_light = si.ng.dot(towards_light).abs();
-        if f.is_zero() || cos_light <= 0.0 {
-            return;
-        }
-        if scene.occluded(&si.spawn_to(scene.camera.position(), Vec3::ZERO, None)) {
-            return;
-        }
-        // beta · f_s |cos_s| / |cos_g| (shading normals: Veach's adjoint correction), times the
-        // camera's solid angle per area at the point and its film area per solid angle.
-        let g = si.ng.dot(pr.wi).abs() / (cos_light * pr.dist * pr.dist) * pr.importance;
-        let c = beta * f * g;
-        if !c.is_finite() {
-            return;
-        }
-        let filter = &settings.filter;
-        let r = filter.radius();
-        let (w, h) = (settings.width as i64, settings.height as i64);
-        let (x0, x1) = (
-            (pr.film.x - r).floor() as i64,
-            (pr.film.x + r).floor() as i64,
-        );
-        let (y0, y1) = (
-            (pr.film.y - r).floor() as i64,
-            (pr.film.y + r).floor() as i64,
-        );
-        for y in y0.max(0)..=y1.min(h - 1) {
-            for x in x0.max(0)..=x1.min(w - 1) {
-                let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-                let wf = filter.eval(pr.film - centre);
-                if wf > 0.0 {
-                    out.push(Splat {
-                        pixel: (y * w + x) as u32,
-                        l: c * wf,
-                        wl: *wl,
-                    });
-                }
-            }
-        }
-    }
 }
 
 #[cfg(test)]
-#[path = "caustics_tests.rs"]
 mod tests;

@@ -13,6 +13,7 @@ use super::*;
 use crate::emitter::EnvMap;
 use crate::math::chi2::chi2_test;
 use crate::math::rng::Pcg32;
+use crate::math::Frame;
 use crate::texture::RgbImage;
 use glam::Mat3;
 use std::f64::consts::PI;

@@ -1,0 +1,70 @@
+//! Emitters in the scene file that are not attached to a shape (environment, point, spot,
+//! directional lights).
+
+use super::shape::one;
+use super::{SpectrumConfig, TransformOp};
+use serde::{Deserialize, Serialize};
+
+/// Emitters not attached to a shape.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum EmitterConfig {
+    /// `Point(position: (0, 2, 0), intensity: Named("A"))`, intensity in W sr⁻¹ nm⁻¹.
+    Point {
+        position: [f32; 3],
+        intensity: SpectrumConfig,
+    },
+    /// `Constant(radiance: Constant(1.0))`: radiance arriving from every direction.
+    Constant { radiance: SpectrumConfig },
+    /// A spot light (Mitsuba's `spot`) at the origin of `to_world`, emitting along its local +z:
+    /// `Spot(intensity: Scaled(5, Named("D65")), cutoff_angle: 30, beam_width: 20,
+    /// to_world: [LookAt(origin: (0, 3, 0), target: (0, 0, 0), up: (0, 0, 1))])`.
+    /// Full `intensity` (W sr⁻¹ nm⁻¹, default `Named("D65")`) within `beam_width` degrees of the
+    /// axis (default ¾ of `cutoff_angle`), falling linearly in angle to 0 at `cutoff_angle`
+    /// (default 20, at most 90).
+    Spot {
+        #[serde(default = "d65")]
+        intensity: SpectrumConfig,
+        #[serde(default = "twenty")]
+        cutoff_angle: f32,
+        #[serde(default)]
+        beam_width: Option<f32>,
+        #[serde(default)]
+        to_world: Vec<TransformOp>,
+    },
+    /// A directional light at infinity (Mitsuba's `directional`):
+    /// `Directional(irradiance: Scaled(3, Named("D65")), direction: (0, -1, -1))`.
+    /// `irradiance` (W m⁻² nm⁻¹, default `Named("D65")`) is what a surface facing the light
+    /// receives; `direction` is the way the light travels, or give `to_world` instead (the light
+    /// then travels along its local +z, the default).
+    Directional {
+        #[serde(default = "d65")]
+        irradiance: SpectrumConfig,
+        #[serde(default)]
+        direction: Option<[f32; 3]>,
+        #[serde(default)]
+        to_world: Vec<TransformOp>,
+    },
+    /// An environment map (Mitsuba's `envmap`): `Envmap(filename: "textures/sky.exr", scale: 2)`.
+    /// A latitude-longitude image, twice as wide as high (OpenEXR, Radiance HDR or PNG; relative
+    /// to the scene file) of linear RGB radiance, +y up, uplifted per texel as an illuminant;
+    /// times `scale` (default 1); `to_world` may rotate it. `colour_space: "acescg"` (or
+    /// "rec2020", "display_p3"; default "srgb") names the space of its linear RGB.
+    Envmap {
+        filename: String,
+        #[serde(default = "one")]
+        scale: f32,
+        #[serde(default)]
+        colour_space: Option<String>,
+        #[serde(default)]
+        to_world: Vec<TransformOp>,
+    },
+}
+
+fn d65() -> SpectrumConfig {
+    SpectrumConfig::Named("D65".into())
+}
+
+fn twenty() -> f32 {
+    20.0
+}
