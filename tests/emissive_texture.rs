@@ -200,22 +200,34 @@ fn textured_sphere_light_is_refused() {
     );
 }
 
-fn base64(bytes: &[u8]) -> String {
-    const B64: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for c in bytes.chunks(3) {
-        let n = (c[0] as u32) << 16
-            | (*c.get(1).unwrap_or(&0) as u32) << 8
-            | *c.get(2).unwrap_or(&0) as u32;
-        for k in 0..4 {
-            if k <= c.len() {
-                out.push(B64[(n >> (18 - 6 * k) & 63) as usize] as char);
+/// An HDR light texture with a negative or NaN texel is refused at load, naming the field, the
+/// texel and its value (radiance is unbounded above but never negative).
+#[test]
+fn negative_and_nan_light_texels_are_refused() {
+    let dir = workdir("bad_texels");
+    for (name, bad) in [("neg.exr", -0.5f32), ("nan.exr", f32::NAN)] {
+        exr::prelude::write_rgb_file(dir.join(name), 3, 2, |x, y| {
+            if (x, y) == (2, 1) {
+                (0.5, bad, 0.5)
             } else {
-                out.push('=');
+                (1.0, 1.0, 1.0)
             }
-        }
+        })
+        .unwrap();
+        let text = format!(
+            r#"(shapes: [(shape: Rectangle, emitter: (radiance: Bitmap(path: "{name}")))], outputs: (bands: 0))"#
+        );
+        let err = prism::scene::load_str(&text, &dir.join("s.ron"))
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(
+            err.contains("shapes[0].emitter.radiance")
+                && err.contains("texel (2, 1) has G = ")
+                && err.contains("an emitted radiance must be finite and ≥ 0"),
+            "{err}"
+        );
     }
-    out
 }
 
 /// A unit quad in z = 0 facing +z with TEXCOORD_0 = (x, 1 − y) and TEXCOORD_1 = (1 − x, y),
@@ -282,7 +294,7 @@ fn emissive_quad(
         factor[1],
         factor[2],
         bytes.len(),
-        base64(&bytes)
+        base64::encode(&bytes)
     );
     let file = dir.join("panel.gltf");
     std::fs::write(&file, text).unwrap();

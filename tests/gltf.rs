@@ -428,24 +428,6 @@ fn bad_gltf_input_is_reported() {
     }
 }
 
-fn base64(bytes: &[u8]) -> String {
-    const B64: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for c in bytes.chunks(3) {
-        let n = (c[0] as u32) << 16
-            | (*c.get(1).unwrap_or(&0) as u32) << 8
-            | *c.get(2).unwrap_or(&0) as u32;
-        for k in 0..4 {
-            if k <= c.len() {
-                out.push(B64[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
-
 /// A one-triangle glTF with `materials` (JSON text) used by its primitive (material 0), and
 /// `extensions_used`.
 fn triangle_gltf(materials: &str, extensions_used: &str) -> String {
@@ -454,7 +436,7 @@ fn triangle_gltf(materials: &str, extensions_used: &str) -> String {
     for v in [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
         bytes.extend_from_slice(&v.to_le_bytes());
     }
-    let b64 = base64(&bytes);
+    let b64 = base64::encode(&bytes);
     format!(
         r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": [{extensions_used}], "scene": 0, "scenes": [{{"nodes": [0]}}],
         "nodes": [{{"mesh": 0, "name": "tri"}}], "materials": {materials},
@@ -494,6 +476,27 @@ fn dispersion_emission_and_alpha() {
     );
     assert!((ior.int.eval_one(587.56) - 1.62).abs() < 1e-5);
     assert!(job.scene.materials[0].dispersive());
+    // KHR_materials_volume is rendered thin-walled and warned about, except on a dispersive
+    // glass, which refracts as a solid dielectric.
+    let volume = |dispersion: &str| {
+        triangle_gltf(
+            &format!(
+                r#"[{{"extensions": {{"KHR_materials_transmission": {{"transmissionFactor": 1}}, "KHR_materials_volume": {{"thicknessFactor": 1}}{dispersion}}}}}]"#
+            ),
+            r#""KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_dispersion""#,
+        )
+    };
+    let thin = load_text("volume", &volume(""));
+    assert!(
+        thin.warnings.len() == 1 && thin.warnings[0].contains("thin-walled"),
+        "{:?}",
+        thin.warnings
+    );
+    let solid = load_text(
+        "volume_dispersion",
+        &volume(r#", "KHR_materials_dispersion": {"dispersion": 0.5}"#),
+    );
+    assert!(solid.warnings.is_empty(), "{:?}", solid.warnings);
 
     let lamp = triangle_gltf(
         r#"[{"emissiveFactor": [1, 0.5, 0.2], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}}]"#,
@@ -603,7 +606,7 @@ fn normal_mapped_quad(dir: &Path, n: Vec3, tangents: bool) -> PathBuf {
         "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 6, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
                       {{"bufferView": 1, "componentType": 5126, "count": 6, "type": "VEC3"}},
                       {{"bufferView": 2, "componentType": 5126, "count": 6, "type": "VEC2"}}{tangent_acc}]}}"#,
-        base64(&bytes)
+        base64::encode(&bytes)
     );
     let file = dir.join(format!("quad{}.gltf", if tangents { "_t" } else { "" }));
     std::fs::write(&file, text).unwrap();
@@ -810,7 +813,7 @@ fn textured_quad(
         textures.join(", "),
         uris.join(", "),
         bytes.len(),
-        base64(&bytes)
+        base64::encode(&bytes)
     );
     let file = dir.join(format!("{name}.gltf"));
     std::fs::write(&file, text).unwrap();

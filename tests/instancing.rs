@@ -210,16 +210,7 @@ fn instanced_scene_renders_as_its_flattened_twin() {
         "{worst:?}"
     );
 
-    let (ri, rf) = (ch(&fi, "R"), ch(&ff, "R"));
-    assert!(ri.iter().chain(rf).all(|v| v.is_finite()));
-    let mean = |v: &[f32]| v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64;
-    let (mi, mf) = (mean(ri), mean(rf));
-    let close = (0..n)
-        .filter(|&k| (ri[k] - rf[k]).abs() <= 1e-3 * rf[k].abs().max(1e-3))
-        .count();
-    eprintln!("mean R {mi} instanced, {mf} flattened; {close} of {n} pixels within 0.1%");
-    assert!((mi - mf).abs() <= 2e-3 * mf, "means {mi} and {mf}");
-    assert!(close * 100 >= 97 * n, "only {close} of {n} pixels agree");
+    common::assert_same_radiance(ch(&fi, "R"), ch(&ff, "R"));
 }
 
 /// A glTF file with one mesh under four nodes (translated, rotated about a parent, mirrored,
@@ -309,11 +300,7 @@ fn gltf_mesh_under_several_nodes_is_instanced() {
             assert!((a - b).abs() <= 1e-3, "normal.{c} {a} vs {b} at {k}");
         }
     }
-    let (ri, rf) = (ch(&fi, "R"), ch(&ff, "R"));
-    let close = (0..n)
-        .filter(|&k| (ri[k] - rf[k]).abs() <= 1e-3 * rf[k].abs().max(1e-3))
-        .count();
-    assert!(close * 100 >= 97 * n, "only {close} of {n} pixels agree");
+    common::assert_same_radiance(ch(&fi, "R"), ch(&ff, "R"));
 }
 
 /// A bumpy height field of 224 × 224 quads (100,352 triangles) as binary PLY.

@@ -74,17 +74,7 @@ pub fn area_radiance(
             "texture paths are relative to the scene file",
         )
     })?;
-    for (k, p) in img.pixels.iter().enumerate() {
-        if p.iter().any(|c| !c.is_finite() || *c < 0.0) {
-            return Err(err(format!(
-                "`{}`: texel ({}, {}) is {p:?}; an emitted radiance must be finite and ≥ 0",
-                full.display(),
-                k % img.width.max(1),
-                k / img.width.max(1)
-            ))
-            .hint("fix or clamp the image"));
-        }
-    }
+    img.validate(texture::TexelRange::Radiance).map_err(err)?;
     let peak = img.pixels.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
     if peak * scale > MAX_EMISSION {
         return Err(err(format!(

@@ -58,7 +58,7 @@ def test_irregular_spectrum_interpolates_linearly_and_is_zero_outside():
 
 @pytest.mark.parametrize("uv", [(0.1, 0.1), (0.27, 0.05), (0.62, 0.9), (0.97, 0.4)])
 def test_checkerboards_follow_prism(uv):
-    # prism (src/texture.rs): texture uv = surface uv · uv_scale + uv_offset; the first value
+    # prism (src/texture/mod.rs): texture uv = surface uv · uv_scale + uv_offset; the first value
     # where frac(u) > ½ equals frac(v) > ½. Spectral and scalar checkerboards alike.
     place = {"uv_scale": [3.0, 2.0], "uv_offset": [0.1, 0.3]}
     u, v = uv[0] * 3.0 + 0.1, uv[1] * 2.0 + 0.3

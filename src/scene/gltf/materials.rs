@@ -422,14 +422,17 @@ impl<'a> GltfMaterials<'a> {
                 ));
             }
         }
-        if m.volume().is_some_and(|v| v.thickness_factor() > 0.0) && transmission_f > 0.0 {
-            warn.push(format!("{}: {label}: KHR_materials_volume is rendered thin-walled (no refraction or attenuation) unless the material has KHR_materials_dispersion", self.model.path.display()));
-        }
         let dispersion = m
             .extension_value("KHR_materials_dispersion")
             .and_then(|v| v.get("dispersion"))
             .and_then(|v| v.as_f64())
             .unwrap_or(0.0) as f32;
+        if dispersion <= 0.0
+            && m.volume().is_some_and(|v| v.thickness_factor() > 0.0)
+            && transmission_f > 0.0
+        {
+            warn.push(format!("{}: {label}: KHR_materials_volume is rendered thin-walled (no refraction or attenuation) unless the material has KHR_materials_dispersion", self.model.path.display()));
+        }
         let mut mat = if dispersion > 0.0 && transmission_f > 0.0 {
             // A dispersive glass: prism's dielectric with a Cauchy index of the same Abbe
             // number; base colour tints the transmission.
