@@ -9,6 +9,8 @@
 //! `--binary-every`-th case also runs the `prism` binary under `prlimit --as` with a time bound
 //! (hangs, memory, signals, exit codes as a user sees them). Failing cases are saved under
 //! `--out`/findings as regression-corpus directories (tests/fuzz_corpus/ takes them as they are).
+//! If the fuzzer itself dies (an in-process allocation failure aborts it), `--out`/workJ/case
+//! names the case job J was running: rerun it alone with `--start K --cases 1 --jobs 1`.
 
 #[path = "engine/mod.rs"]
 mod engine;
@@ -80,6 +82,9 @@ fn main() {
                     }
                     let case = engine::make_case(seeds, seed, k);
                     let scene = engine::materialise(&case, &dir, repo);
+                    // An in-process case that kills the fuzzer itself (an allocation failure
+                    // aborts, the OOM killer) leaves no finding: this file names it instead.
+                    let _ = std::fs::write(dir.join("case"), format!("{k}\n{}\n", case.what));
                     let mut verdicts =
                         vec![(engine::run_in_process(&scene, &dir, &LIMITS), String::new())];
                     if every > 0 && k % every == 0 {

@@ -28,9 +28,16 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
         return Err(format!("image `{name}` does not exist"));
     }
     if ext.as_deref() == Some("exr") {
-        // (width, pixels): the reader hands us the size first, then every pixel.
-        // (width, pixels): the reader hands us the size first, then every pixel. A size over
-        // the texel limit gets no storage (and the image is refused below).
+        // The size is checked on the header before any pixel is decoded: the decoder allocates
+        // each block from the data window, so a window of 570425472 × 64 asked for 54 GB and
+        // aborted the process (fuzz run 9, corpus case exr_huge_data_window).
+        let header = input_file::open(path, input_file::Kind::Texture)?;
+        let meta = exr::meta::MetaData::read_from_buffered(std::io::BufReader::new(header), false)
+            .map_err(|e| format!("`{name}`: cannot read OpenEXR: {e}"))?;
+        for h in meta.headers.iter() {
+            check_texels(path, h.layer_size.0, h.layer_size.1)?;
+        }
+        // (width, height, pixels): the reader hands us the size first, then every pixel.
         type Store = (usize, usize, Vec<[f32; 3]>);
         let file = input_file::open(path, input_file::Kind::Texture)?;
         use exr::prelude::{ReadChannels, ReadLayers};
@@ -38,16 +45,7 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
             .no_deep_data()
             .largest_resolution_level()
             .rgba_channels(
-                |res, _| -> Store {
-                    let n = res.0 as u64 * res.1 as u64;
-                    let keep = n <= input_file::MAX_TEXELS;
-                    let store = if keep {
-                        vec![[0.0; 3]; n as usize]
-                    } else {
-                        Vec::new()
-                    };
-                    (res.0, res.1, store)
-                },
+                |res, _| -> Store { (res.0, res.1, vec![[0.0; 3]; res.0 * res.1]) },
                 |s: &mut Store, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
                     if let Some(p) = s.2.get_mut(pos.1 * s.0 + pos.0) {
                         *p = [r, g, b]
@@ -59,7 +57,6 @@ pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
             .from_buffered(std::io::BufReader::new(file))
             .map_err(|e| format!("`{name}`: cannot read OpenEXR: {e}"))?;
         let (width, height, pixels) = img.layer_data.channel_data.pixels;
-        check_texels(path, width, height)?;
         let source = Some(ImageSource {
             path: path.to_path_buf(),
             raw,
