@@ -7,9 +7,8 @@ use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-mod workers;
-use workers::Reporter;
-pub use workers::{worker_pool, WorkerArgs};
+use crate::pipeline::workers::Reporter;
+use crate::pipeline::{worker_pool, WorkerArgs};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -192,7 +191,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         .unwrap_or_else(|| default_output(&args.scene));
     output::guard::check_names(&out, args.preview.as_deref())?;
     let t_load = Instant::now();
-    let job = crate::scene::load(&args.scene, |cfg| {
+    let job = crate::load::load(&args.scene, |cfg| {
         if let Some(spp) = args.spp {
             cfg.sampler.spp = spp;
         }
@@ -212,7 +211,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
             cfg.spectral.sampling = w;
         }
         if let Some(p) = &args.sensor {
-            cfg.sensor = Some(crate::sensor::setup::cli_override(p));
+            cfg.sensor = Some(crate::load::sensor::cli_override(p));
             cfg.outputs = Default::default();
         }
         if args.clamp.is_some() {
@@ -307,7 +306,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
 /// failure to write them is the user's to fix (exit 2).
 fn export(args: &ExportArgs) -> Result<(), Error> {
     output::interrupt::install();
-    let job = crate::scene::load(&args.scene, |_| {})?;
+    let job = crate::load::load(&args.scene, |_| {})?;
     for f in crate::export::planned_files(&job, &args.output) {
         output::guard::check_output(&f, "-o", &job.inputs)?;
     }
@@ -330,7 +329,7 @@ fn default_output(scene: &Path) -> PathBuf {
 
 fn metadata(
     args: &RenderArgs,
-    job: &crate::scene::Job,
+    job: &crate::load::Job,
     stats: &RenderStats,
     seconds: f64,
 ) -> Vec<(String, String)> {

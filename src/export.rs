@@ -44,7 +44,7 @@ use crate::bsdf::{microfacet::Distribution, Material};
 use crate::emitter::{AreaRadiance, Emitter};
 use crate::error::Error;
 use crate::filter::Filter;
-use crate::scene::Job;
+use crate::load::Job;
 use crate::shape::{Mesh, Shape};
 use crate::spectrum::{Curve, Ior, RelativeIor};
 use crate::texture::{FloatTexture, SpectralTexture, TexFilter, UvMap, Wrap};

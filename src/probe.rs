@@ -22,7 +22,7 @@ pub fn probe(
     input: impl BufRead,
     mut out: impl Write,
 ) -> Result<(), Error> {
-    let job = crate::scene::load(scene, |_| {})?;
+    let job = crate::load::load(scene, |_| {})?;
     let index = job
         .config
         .materials

@@ -159,7 +159,7 @@ fn no_self_hits_leaving_a_rotated_rectangle() {
         AccelKind::Embree,
     ];
     for kind in kinds {
-        let job = prism::scene::load_str(
+        let job = prism::load::load_str(
             &format!(
                 r#"(
                     shapes: [(shape: Rectangle, to_world: [Scale((4, 4, 1)), Rotate(axis: (1, 0, 0), angle: -90)])],

@@ -10,7 +10,7 @@ use prism::integrator;
 use std::path::{Path, PathBuf};
 
 fn render_at(text: &str, file: &Path, threads: usize) -> Film {
-    let job = prism::scene::load_str(text, file).unwrap();
+    let job = prism::load::load_str(text, file).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -100,7 +100,7 @@ fn tile_stats(
     let mut per_seed: Vec<Vec<f64>> = Vec::new();
     for seed in first_seed..first_seed + reps {
         let text = text.replace("seed: 0", &format!("seed: {seed}"));
-        let mut job = prism::scene::load_str(&text, file).unwrap();
+        let mut job = prism::load::load_str(&text, file).unwrap();
         edit(&mut job.settings);
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(2)

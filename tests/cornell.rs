@@ -22,7 +22,7 @@ use std::path::Path;
 /// with prism's defaults (`SamplerConfig::default()`'s Sobol, `SpectralConfig::default()`'s 8
 /// wavelengths): the reference is the same expectation either way.
 fn render(seed: u64, defaults: bool) -> Film {
-    let job = prism::scene::load(Path::new("scenes/cornell.ron"), |cfg| {
+    let job = prism::load::load(Path::new("scenes/cornell.ron"), |cfg| {
         cfg.sampler.spp = 128;
         cfg.sampler.seed = seed;
         if defaults {

@@ -82,7 +82,7 @@ fn render(lanes: usize, mode: &str, seed: u64) -> Channels {
             "MESH",
             concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/meshes/prism.obj"),
         );
-    let job = prism::scene::load_str(&text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(&text, Path::new("inline.ron")).unwrap();
     let film: Film = integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
     let mut names: Vec<String> = film
         .band_centers
@@ -349,7 +349,7 @@ fn prism_deviation_matches_snell() {
         )"#,
         concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/meshes/prism.obj")
     );
-    let job = prism::scene::load_str(&text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(&text, Path::new("inline.ron")).unwrap();
     let scene = &job.scene;
     // The faces the beam crosses, in the xz-plane: in through the face between the apex
     // (0, 0.577) and (−0.5, −0.289), out through the face between the apex and (0.5, −0.289).

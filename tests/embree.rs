@@ -18,7 +18,7 @@ fn embree_present_when_required() {
     if !built_with_embree {
         panic!("PRISM_REQUIRE_EMBREE=1 but prism was built without `--features embree`");
     }
-    let job = prism::scene::load(Path::new("scenes/cornell.ron"), |cfg| {
+    let job = prism::load::load(Path::new("scenes/cornell.ron"), |cfg| {
         cfg.accel = AccelKind::Embree;
     })
     .expect("the Embree backend builds the Cornell box");
@@ -27,7 +27,7 @@ fn embree_present_when_required() {
 
 /// Renders `scene` at `spp` with `accel`, the same seed and settings otherwise.
 fn render(scene: &str, accel: AccelKind, seed: u64, spp: u32) -> prism::film::Film {
-    let job = prism::scene::load(Path::new(scene), |cfg| {
+    let job = prism::load::load(Path::new(scene), |cfg| {
         cfg.accel = accel;
         cfg.sampler.seed = seed;
         cfg.sampler.spp = spp;

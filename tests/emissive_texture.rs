@@ -53,7 +53,7 @@ fn srgb_decode(v: f64) -> f64 {
 
 /// Renders `job` with per-pixel standard errors; returns (X, Y, Z) means and their standard
 /// errors, pixel by pixel.
-fn render_xyz(job: &prism::scene::Job) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+fn render_xyz(job: &prism::load::Job) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     let (film, _, se) =
         prism::integrator::render_film(&job.scene, &job.settings, &job.channels, true, &|_| {});
     let slots = job.channels.sensor.slots();
@@ -70,7 +70,7 @@ fn render_xyz(job: &prism::scene::Job) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
 
 /// For each pixel: the world points where the rays through its centre and its four corners hit
 /// the scene (None where one misses).
-fn pixel_hits(job: &prism::scene::Job) -> Vec<Option<[Vec3; 5]>> {
+fn pixel_hits(job: &prism::load::Job) -> Vec<Option<[Vec3; 5]>> {
     let (w, h) = (job.settings.width, job.settings.height);
     let mut sampler = prism::sampler::PixelSampler::new(job.settings.sampler, 0, 0);
     let mut out = Vec::new();
@@ -101,7 +101,7 @@ fn pixel_hits(job: &prism::scene::Job) -> Vec<Option<[Vec3; 5]>> {
 /// (its table's fit), and prism's 1-nm CIE table and D65 give a white point a few 1e-4 off the
 /// matrix's).
 fn check_texels(
-    job: &prism::scene::Job,
+    job: &prism::load::Job,
     texel_of: impl Fn(Vec3) -> Option<usize>,
     rgb: &[[f64; 3]],
 ) -> usize {
@@ -165,7 +165,7 @@ fn ron_bitmap_light_seen_directly_shows_its_texels() {
     )"#;
     let file = dir.join("scene.ron");
     std::fs::write(&file, text).unwrap();
-    let job = prism::scene::load(&file, |_| {}).unwrap();
+    let job = prism::load::load(&file, |_| {}).unwrap();
     assert!(matches!(
         &job.scene.emitters[0],
         Emitter::Area(a) if matches!(a.radiance, AreaRadiance::Textured(_))
@@ -190,7 +190,7 @@ fn textured_sphere_light_is_refused() {
         .save(dir.join("w.png"))
         .unwrap();
     let text = r#"(shapes: [(shape: Sphere(), emitter: (radiance: Bitmap(path: "w.png")))], outputs: (bands: 0))"#;
-    let err = prism::scene::load_str(text, &dir.join("s.ron"))
+    let err = prism::load::load_str(text, &dir.join("s.ron"))
         .err()
         .expect("refused")
         .to_string();
@@ -217,7 +217,7 @@ fn negative_and_nan_light_texels_are_refused() {
         let text = format!(
             r#"(shapes: [(shape: Rectangle, emitter: (radiance: Bitmap(path: "{name}")))], outputs: (bands: 0))"#
         );
-        let err = prism::scene::load_str(&text, &dir.join("s.ron"))
+        let err = prism::load::load_str(&text, &dir.join("s.ron"))
             .err()
             .expect("refused")
             .to_string();
@@ -316,7 +316,7 @@ fn gltf_emissive_texture_renders_its_pattern() {
         strength,
         &[r#"{"mesh": 0, "name": "panel"}"#],
     );
-    let job = prism::scene::load(&file, |cfg| {
+    let job = prism::load::load(&file, |cfg| {
         cfg.film.width = 40;
         cfg.film.height = 30;
         // Samples within each pixel's square (the default Gaussian reaches into neighbours).
@@ -388,7 +388,7 @@ fn emitter_and_direction_sampling_agree_with_integrated_irradiance() {
     let text = format!("(integrator: (max_depth: 2), outputs: (bands: 0), shapes: [{LIGHT}])");
     let file = dir.join("scene.ron");
     std::fs::write(&file, text).unwrap();
-    let job = prism::scene::load(&file, |_| {}).unwrap();
+    let job = prism::load::load(&file, |_| {}).unwrap();
     let scene = &job.scene;
     let em = &scene.emitters[0];
     let Emitter::Area(light) = em else { panic!() };
@@ -532,7 +532,7 @@ fn path_tracer_lights_a_floor_as_integrated() {
     );
     let file = dir.join("scene.ron");
     std::fs::write(&file, text).unwrap();
-    let job = prism::scene::load(&file, |_| {}).unwrap();
+    let job = prism::load::load(&file, |_| {}).unwrap();
     let (means, errs) = render_xyz(&job);
     let hits = pixel_hits(&job);
     let (mut checked, mut worst) = (0, 0.0f64);
@@ -717,7 +717,7 @@ fn emissive_gltf_instances_light_like_copies() {
         ],
     );
     let load = |flatten: bool| {
-        prism::scene::load(&file, |cfg| {
+        prism::load::load(&file, |cfg| {
             cfg.flatten = flatten;
             cfg.outputs.bands = Some(0);
         })
@@ -743,7 +743,7 @@ fn emissive_gltf_instances_light_like_copies() {
         pdf: [1.0; 4],
     };
     let si = receiver_facing(Vec3::new(0.3, 0.4, 1.5), -Vec3::Z);
-    let estimate = |job: &prism::scene::Job| -> [f64; 4] {
+    let estimate = |job: &prism::load::Job| -> [f64; 4] {
         let scene = &job.scene;
         let mut sum = [0.0f64; 4];
         let mut rng = Pcg32::new(5, 9);

@@ -53,7 +53,7 @@ fn wl550() -> Wavelengths<1> {
 /// The first emitter of a scene in `tests/data` (so relative image paths resolve there).
 fn emitter(ron: &str) -> Emitter {
     let text = format!("(film: (width: 2, height: 2), emitters: [{ron}], outputs: (bands: 0))");
-    let job = prism::scene::load_str(&text, Path::new("tests/data/inline.ron")).unwrap();
+    let job = prism::load::load_str(&text, Path::new("tests/data/inline.ron")).unwrap();
     job.scene.emitters[0].clone()
 }
 
@@ -203,7 +203,7 @@ fn envmap_uplift_and_scale_match_mitsuba() {
         let text = format!(
             "(film: (width: 2, height: 2), emitters: [Envmap(filename: \"uniform.exr\", scale: {scale})], outputs: (bands: 0))"
         );
-        let job = prism::scene::load_str(&text, &dir.join("inline.ron")).unwrap();
+        let job = prism::load::load_str(&text, &dir.join("inline.ron")).unwrap();
         let em = &job.scene.emitters[0];
         let got: Vec<f32> = wls.iter().map(|&l| em.le_env(d, &at(l))[0]).collect();
         let expect = floats(values);

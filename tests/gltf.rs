@@ -9,7 +9,7 @@
 //! texture, and orthographic cameras against RON, on small glTF files the tests write.
 
 use glam::{Mat4, Quat, Vec3};
-use prism::scene::gltf;
+use prism::load::gltf;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -39,7 +39,7 @@ fn workdir(name: &str) -> PathBuf {
 }
 
 /// Renders a loaded job at a small size; returns the RGB channels.
-fn render(job: &prism::scene::Job) -> Vec<f32> {
+fn render(job: &prism::load::Job) -> Vec<f32> {
     let (film, _) = prism::integrator::render(&job.scene, &job.settings, &job.channels, &|_| {});
     ["R", "G", "B"]
         .iter()
@@ -145,7 +145,7 @@ fn expected_counts(json: &Value) -> (usize, usize, Vec3, Vec3) {
 fn every_model_loads_and_renders_finite_pixels() {
     for name in MODELS {
         let path = model(name);
-        let job = prism::scene::load(&path, small).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let job = prism::load::load(&path, small).unwrap_or_else(|e| panic!("{name}: {e}"));
         let px = render(&job);
         assert!(
             px.iter().all(|v| v.is_finite()),
@@ -184,7 +184,7 @@ fn counts_and_bounds_match_the_file() {
             );
         }
         // The scene built from it holds the same triangles, one shape per primitive instance.
-        let job = prism::scene::load(&path, small).unwrap();
+        let job = prism::load::load(&path, small).unwrap();
         assert_eq!(
             job.scene.primitive_count(),
             tris,
@@ -207,7 +207,7 @@ fn counts_and_bounds_match_the_file() {
 #[test]
 fn orientation_test_comes_out_the_right_way_up() {
     let path = model("OrientationTest");
-    let job = prism::scene::load(&path, small).unwrap();
+    let job = prism::load::load(&path, small).unwrap();
     let s = &job.scene;
     let centroid = |name: &str| -> (usize, Vec3) {
         let i = s
@@ -275,7 +275,7 @@ fn orientation_test_comes_out_the_right_way_up() {
 #[test]
 fn gltf_camera_matches_ron_camera() {
     let path = model("Cameras");
-    let direct = prism::scene::load(&path, small).unwrap();
+    let direct = prism::load::load(&path, small).unwrap();
     let fov = 0.7f32.to_degrees();
     let dir = workdir("camera");
     std::fs::copy(&path, dir.join("Cameras.gltf")).unwrap();
@@ -287,7 +287,7 @@ fn gltf_camera_matches_ron_camera() {
     );
     let scene = dir.join("scene.ron");
     std::fs::write(&scene, ron).unwrap();
-    let via_ron = prism::scene::load(&scene, |_| {}).unwrap();
+    let via_ron = prism::load::load(&scene, |_| {}).unwrap();
     assert_eq!(direct.scene.camera, via_ron.scene.camera);
     assert_eq!(render(&direct), render(&via_ron), "pixels differ");
     // The direct load took the file's aspect ratio: 576 × 576 before `small` resized it.
@@ -306,7 +306,7 @@ fn ron_includes_gltf_with_transform_and_overrides() {
         shapes: [(shape: Gltf(path: "o.gltf", materials: {"MatX1": "gold"}), to_world: [Translate((10, 0, 0))])],
         emitters: [Constant(radiance: Named("D65"))])"#;
     std::fs::write(dir.join("s.ron"), ron).unwrap();
-    let job = prism::scene::load(&dir.join("s.ron"), |_| {}).unwrap();
+    let job = prism::load::load(&dir.join("s.ron"), |_| {}).unwrap();
     let s = &job.scene;
     let (lo, hi) = s.bounds();
     let m = gltf::open(&model("OrientationTest")).unwrap();
@@ -447,11 +447,11 @@ fn triangle_gltf(materials: &str, extensions_used: &str) -> String {
     )
 }
 
-fn load_text(name: &str, gltf_text: &str) -> prism::scene::Job {
+fn load_text(name: &str, gltf_text: &str) -> prism::load::Job {
     let dir = workdir(name);
     let file = dir.join(format!("{name}.gltf"));
     std::fs::write(&file, gltf_text).unwrap();
-    prism::scene::load(&file, small).unwrap_or_else(|e| panic!("{name}: {e}"))
+    prism::load::load(&file, small).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 /// KHR_materials_dispersion (20 / V_d) on a transmissive material becomes a dispersive
@@ -627,7 +627,7 @@ fn normal_maps_tilt_the_shading_normal() {
         ] {
             let dir = workdir(&format!("nmap{k}{}", m.x));
             let file = normal_mapped_quad(&dir, m, tangents);
-            let job = prism::scene::load(&file, small).unwrap();
+            let job = prism::load::load(&file, small).unwrap();
             assert!(job.warnings.is_empty(), "{:?}", job.warnings);
             let s = &job.scene;
             for p in [glam::Vec2::new(0.3, 0.2), glam::Vec2::new(0.8, 0.7)] {
@@ -679,7 +679,7 @@ fn glb_container() {
     let dir = workdir("glb");
     let file = dir.join("tri.glb");
     std::fs::write(&file, &glb).unwrap();
-    let job = prism::scene::load(&file, small).unwrap_or_else(|e| panic!("{e}"));
+    let job = prism::load::load(&file, small).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(job.scene.primitive_count(), 1);
     assert_eq!(job.scene.shape_name, vec![Some("tri".to_string())]);
     let text = load_text("glb_as_gltf", &triangle_gltf("[{}]", ""));
@@ -710,7 +710,7 @@ fn glb_container() {
 /// map; metallic and roughness come from the B and G channels times their factors.
 #[test]
 fn textures_and_texture_transform() {
-    let job = prism::scene::load(&model("BoxTextured"), small).unwrap();
+    let job = prism::load::load(&model("BoxTextured"), small).unwrap();
     let prism::bsdf::Material::Principled(p) = &job.scene.materials[0] else {
         panic!()
     };
@@ -744,7 +744,7 @@ fn textures_and_texture_transform() {
     );
     let file = dir.join("t.gltf");
     std::fs::write(&file, text).unwrap();
-    let job = prism::scene::load(&file, small).unwrap();
+    let job = prism::load::load(&file, small).unwrap();
     let prism::bsdf::Material::Principled(p) = &job.scene.materials[0] else {
         panic!()
     };
@@ -826,7 +826,7 @@ fn rgba_image(w: u32, h: u32, texels: &[[u8; 4]]) -> image::DynamicImage {
 }
 
 /// The uv the quad's material is looked up at where a ray down −z meets world point (x, y).
-fn quad_uv(job: &prism::scene::Job, x: f32, y: f32) -> glam::Vec2 {
+fn quad_uv(job: &prism::load::Job, x: f32, y: f32) -> glam::Vec2 {
     let ray = prism::ray::Ray {
         o: Vec3::new(x, y, 1.0),
         d: -Vec3::Z,
@@ -835,7 +835,7 @@ fn quad_uv(job: &prism::scene::Job, x: f32, y: f32) -> glam::Vec2 {
     job.scene.intersect(&ray).expect("the quad is hit").uv
 }
 
-fn principled(job: &prism::scene::Job) -> &prism::bsdf::PrincipledParams {
+fn principled(job: &prism::load::Job) -> &prism::bsdf::PrincipledParams {
     match &job.scene.materials[job.scene.shape_material[0] as usize] {
         prism::bsdf::Material::Principled(p) => p,
         m => panic!("{m:?}"),
@@ -875,7 +875,7 @@ fn specular_and_transmission_textures() {
             "extensions": {"KHR_materials_specular": {"specularFactor": 0.8, "specularTexture": {"index": 0}}}}"#,
         &[spec],
     );
-    let job = prism::scene::load(&file, small).unwrap();
+    let job = prism::load::load(&file, small).unwrap();
     assert!(job.warnings.is_empty(), "{:?}", job.warnings);
     let p = principled(&job);
     for (x, weight) in [(0.25, 0.8f32), (0.75, 0.0)] {
@@ -897,7 +897,7 @@ fn specular_and_transmission_textures() {
             "extensions": {"KHR_materials_specular": {"specularColorTexture": {"index": 0}}}}"#,
         &[color],
     );
-    let job = prism::scene::load(&file, small).unwrap();
+    let job = prism::load::load(&file, small).unwrap();
     let p = principled(&job);
     let f = |x: f32, l: f32| p.at(quad_uv(&job, x, 0.5), &wl(l)).eval(n, n)[0] / (0.04 * lobe);
     assert!((f(0.25, 450.0) - 1.0).abs() < 2e-3, "{}", f(0.25, 450.0));
@@ -913,7 +913,7 @@ fn specular_and_transmission_textures() {
             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.5, "transmissionTexture": {"index": 0}}}}"#,
         &[t],
     );
-    let job = prism::scene::load(&file, small).unwrap();
+    let job = prism::load::load(&file, small).unwrap();
     assert!(job.warnings.is_empty(), "{:?}", job.warnings);
     let p = principled(&job);
     for (x, trans) in [(0.25, 0.5f32), (0.75, 0.5 * 51.0 / 255.0)] {
@@ -950,7 +950,7 @@ fn texture_transform_rotation() {
         ),
         &[mr],
     );
-    let job = prism::scene::load(&file, small).unwrap();
+    let job = prism::load::load(&file, small).unwrap();
     assert!(job.warnings.is_empty(), "{:?}", job.warnings);
     let p = principled(&job);
     let t = glam::Mat3::from_cols_array_2d(&[
@@ -995,7 +995,7 @@ fn texcoord_1_and_occlusion() {
     let dir = workdir("texcoord1");
     // Base colour: red (left texel), blue (right texel).
     let bc = || rgba_image(2, 1, &[[255, 0, 0, 255], [0, 0, 255, 255]]);
-    let red_at = |job: &prism::scene::Job, x: f32| {
+    let red_at = |job: &prism::load::Job, x: f32| {
         let p = principled(job);
         let uv = quad_uv(job, x, 0.5);
         let v = |l| p.base_color.eval(uv, &wl(l))[0];
@@ -1015,7 +1015,7 @@ fn texcoord_1_and_occlusion() {
             &format!(r#"{{"pbrMetallicRoughness": {{"baseColorTexture": {info}}}}}"#),
             &[bc()],
         );
-        let job = prism::scene::load(&file, small).unwrap();
+        let job = prism::load::load(&file, small).unwrap();
         assert!(job.warnings.is_empty(), "{:?}", job.warnings);
         let set1 = k < 2;
         // x = 0.25: TEXCOORD_0 u = 0.25 (red), TEXCOORD_1 u = 0.75 (blue).
@@ -1028,7 +1028,7 @@ fn texcoord_1_and_occlusion() {
         r#"{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicRoughnessTexture": {"index": 0, "texCoord": 1}}}"#,
         &[bc()],
     );
-    let job = prism::scene::load(&file, small).unwrap();
+    let job = prism::load::load(&file, small).unwrap();
     assert!(
         job.warnings.len() == 1
             && job.warnings[0].contains("metallicRoughnessTexture (TEXCOORD_1)")
@@ -1045,8 +1045,8 @@ fn texcoord_1_and_occlusion() {
         &format!(r#"{plain}, "occlusionTexture": {{"index": 1, "texCoord": 1, "strength": 1}}}}"#),
         &[bc(), rgba_image(1, 1, &[[0, 0, 0, 255]])],
     );
-    let a = prism::scene::load(&without, small).unwrap();
-    let b = prism::scene::load(&with, small).unwrap();
+    let a = prism::load::load(&without, small).unwrap();
+    let b = prism::load::load(&with, small).unwrap();
     assert!(b.warnings.is_empty(), "{:?}", b.warnings);
     let (ra, rb) = (render(&a), render(&b));
     assert!(ra.iter().any(|v| *v > 0.0), "the quad is lit and seen");
@@ -1076,7 +1076,7 @@ fn normal_maps_on_mirrored_uvs() {
             ),
             &[rgba_image(1, 1, &[[texel[0], texel[1], texel[2], 255]])],
         );
-        let job = prism::scene::load(&file, |c| {
+        let job = prism::load::load(&file, |c| {
             small(c);
             c.aovs = vec!["normal".into()];
         })
@@ -1132,7 +1132,7 @@ fn gltf_orthographic_camera_matches_ron_camera() {
         c.film.height = 24;
         c.aovs = vec!["depth".into(), "normal".into(), "instance".into()];
     };
-    let direct = prism::scene::load(&file, film).unwrap();
+    let direct = prism::load::load(&file, film).unwrap();
     let ron = "(camera: (model: Orthographic(width: 2.4), near_clip: 0.5, far_clip: 50, \
            to_world: [Scale((-1, 1, -1)), Translate((0.5, 0.5, 3.0))]), \
          film: (width: 36, height: 24), sampler: (spp: 2), spectral: (wavelengths: 4), outputs: (bands: 0), \
@@ -1140,10 +1140,10 @@ fn gltf_orthographic_camera_matches_ron_camera() {
          shapes: [(shape: Gltf(path: \"Ortho.gltf\"))], emitters: [Constant(radiance: Named(\"D65\"))])";
     let scene = dir.join("scene.ron");
     std::fs::write(&scene, ron).unwrap();
-    let via_ron = prism::scene::load(&scene, |_| {}).unwrap();
+    let via_ron = prism::load::load(&scene, |_| {}).unwrap();
     assert_eq!(direct.scene.camera.model(), "orthographic");
     assert_eq!(direct.scene.camera, via_ron.scene.camera);
-    let full = |job: &prism::scene::Job| {
+    let full = |job: &prism::load::Job| {
         let mut f = prism::integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
         prism::integrator::aov::add_layers(job, &mut f, None);
         f

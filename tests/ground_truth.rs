@@ -24,7 +24,7 @@ const SCENE: &str = r#"(
 )"#;
 
 fn layers(text: &str, threads: usize) -> Film {
-    let job = prism::scene::load_str(text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(text, Path::new("inline.ron")).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -169,7 +169,7 @@ fn aovs_identical_across_thread_counts() {
 }
 
 fn load_err(text: &str) -> prism::error::InputError {
-    match prism::scene::load_str(text, Path::new("bad.ron")) {
+    match prism::load::load_str(text, Path::new("bad.ron")) {
         Err(Error::Input(e)) => *e,
         Err(e) => panic!("not an input error: {e}"),
         Ok(_) => panic!("accepted"),

@@ -248,7 +248,7 @@ fn instanced_normal_maps_follow_their_node() {
             nodes.clone(),
             &[0, 1, 2, 3],
         );
-        let job = prism::scene::load(&file, |c| {
+        let job = prism::load::load(&file, |c| {
             c.film.width = 16;
             c.film.height = 16;
         })
@@ -288,7 +288,7 @@ fn instanced_normal_maps_follow_their_node() {
     }
 }
 
-fn render(job: &prism::scene::Job) -> Film {
+fn render(job: &prism::load::Job) -> Film {
     let mut film = prism::integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
     prism::integrator::aov::add_layers(job, &mut film, None);
     film
@@ -373,8 +373,8 @@ fn normal_mapped_gltf_mesh_renders_as_its_flattened_twin() {
             )
         };
         let at = dir.join("s.ron");
-        let inst = prism::scene::load_str(&scene(false), &at).unwrap();
-        let flat = prism::scene::load_str(&scene(true), &at).unwrap();
+        let inst = prism::load::load_str(&scene(false), &at).unwrap();
+        let flat = prism::load::load_str(&scene(true), &at).unwrap();
         assert!(inst.warnings.is_empty(), "{:?}", inst.warnings);
         let names: Vec<_> = inst.scene.shape_name.iter().flatten().cloned().collect();
         assert_eq!(names, ["plain", "mirrored", "squashed", "child", "floor"]);
@@ -411,7 +411,7 @@ fn normal_mapped_gltf_mesh_renders_as_its_flattened_twin() {
         assert_eq!(copies(&inst.scene.shapes), 0);
         assert_eq!(copies(&flat.scene.shapes), 4 * verts);
         // The memory estimate's count: the mesh once plus one per instance, against four copies.
-        use prism::scene::instancing::unique_prims;
+        use prism::load::instancing::unique_prims;
         assert_eq!(unique_prims(&inst.scene.shapes), (tris + 4 + 2) as u64);
         assert_eq!(unique_prims(&flat.scene.shapes), (4 * tris + 2) as u64);
 

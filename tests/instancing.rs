@@ -96,7 +96,7 @@ fn twin_scene(flatten: bool) -> String {
     )
 }
 
-fn render(job: &prism::scene::Job) -> Film {
+fn render(job: &prism::load::Job) -> Film {
     let mut film = integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
     aov::add_layers(job, &mut film, None);
     film
@@ -133,8 +133,8 @@ fn instanced_scene_renders_as_its_flattened_twin() {
     std::fs::write(dir.join("ball.obj"), bumpy_obj(24, 16, true)).unwrap();
     std::fs::write(dir.join("rock.obj"), bumpy_obj(9, 6, false)).unwrap();
     let file = dir.join("twin.ron");
-    let inst = prism::scene::load_str(&twin_scene(false), &file).unwrap();
-    let flat = prism::scene::load_str(&twin_scene(true), &file).unwrap();
+    let inst = prism::load::load_str(&twin_scene(false), &file).unwrap();
+    let flat = prism::load::load_str(&twin_scene(true), &file).unwrap();
     let (ball, rock) = (24 * 16 * 2, 9 * 6 * 2);
     assert_eq!(
         inst.scene.instance_counts(),
@@ -270,8 +270,8 @@ fn gltf_mesh_under_several_nodes_is_instanced() {
         )
     };
     let file = dir.join("s.ron");
-    let inst = prism::scene::load_str(&scene(false), &file).unwrap();
-    let flat = prism::scene::load_str(&scene(true), &file).unwrap();
+    let inst = prism::load::load_str(&scene(false), &file).unwrap();
+    let flat = prism::load::load_str(&scene(true), &file).unwrap();
     assert_eq!(inst.scene.instance_counts(), (4, 1, 4));
     assert_eq!(flat.scene.instance_counts(), (0, 0, 0));
     assert_eq!(inst.scene.primitive_count(), 4 * 4 + 2);

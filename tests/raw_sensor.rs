@@ -63,7 +63,7 @@ fn scene(size: u32, seed: u64, sensor: &str) -> String {
 }
 
 fn render_at(text: &str, threads: usize) -> Film {
-    let job = prism::scene::load_str(text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(text, Path::new("inline.ron")).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

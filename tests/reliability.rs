@@ -16,7 +16,7 @@ fn material(cfg: &str) -> Material {
     let text = format!(
         "(film: (width: 2, height: 2), outputs: (bands: 0), materials: {{ \"m\": {cfg} }}, shapes: [(shape: Rectangle, material: \"m\")])"
     );
-    let job = prism::scene::load_str(&text, Path::new("inline.ron"))
+    let job = prism::load::load_str(&text, Path::new("inline.ron"))
         .unwrap_or_else(|e| panic!("{cfg}: {e}"));
     job.scene.materials[0].clone()
 }

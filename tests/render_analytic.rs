@@ -14,7 +14,7 @@ use prism::integrator;
 use std::path::{Path, PathBuf};
 
 fn render(text: &str, threads: usize) -> Film {
-    let job = prism::scene::load_str(text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(text, Path::new("inline.ron")).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -337,7 +337,7 @@ fn directional_light_at_an_angle() {
         -t.cos()
     );
     let text = plane_scene(&light, [0.0, 3.0, 0.5], [0.0, 0.0, 0.0], 40.0);
-    let job = prism::scene::load_str(&text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(&text, Path::new("inline.ron")).unwrap();
     assert!(job.scene.environment.is_empty());
     // The same light given by `to_world` (it travels along its local +z).
     let by_frame = plane_scene(
@@ -350,7 +350,7 @@ fn directional_light_at_an_angle() {
         [0.0, 0.0, 0.0],
         40.0,
     );
-    let job2 = prism::scene::load_str(&by_frame, Path::new("inline.ron")).unwrap();
+    let job2 = prism::load::load_str(&by_frame, Path::new("inline.ron")).unwrap();
     match (&job.scene.emitters[0], &job2.scene.emitters[0]) {
         (
             prism::emitter::Emitter::Directional { direction: a, .. },
@@ -381,7 +381,7 @@ fn grey_exr(name: &str, w: usize, h: usize, value: impl Fn(usize) -> f32 + Sync)
 }
 
 fn render_at(text: &str, file: &Path) -> Film {
-    let job = prism::scene::load_str(text, file).unwrap();
+    let job = prism::load::load_str(text, file).unwrap();
     integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0
 }
 

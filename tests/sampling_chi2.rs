@@ -274,7 +274,7 @@ fn wavelength_sampling() {
 fn check_emitter(name: &str, shapes_ron: &str, p: Vec3, axis: Vec3, span: f64) {
     let text =
         format!("(film: (width: 4, height: 4), shapes: [{shapes_ron}], outputs: (bands: 0))");
-    let job = prism::scene::load_str(&text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(&text, Path::new("inline.ron")).unwrap();
     let scene = &job.scene;
     let wl: Wavelengths<4> =
         WavelengthSampler::new(WavelengthSampling::Visible, 360.0, 830.0).sample(0.3);
@@ -463,7 +463,7 @@ fn envmap_sampling() {
 fn lone_emitter(emitter_ron: &str) -> prism::emitter::Emitter {
     let text =
         format!("(film: (width: 4, height: 4), emitters: [{emitter_ron}], outputs: (bands: 0))");
-    let job = prism::scene::load_str(&text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(&text, Path::new("inline.ron")).unwrap();
     job.scene.emitters[0].clone()
 }
 

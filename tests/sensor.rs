@@ -13,7 +13,7 @@ use prism::integrator;
 use std::path::Path;
 
 fn render_at(text: &str, file: &Path, threads: usize) -> Film {
-    let job = prism::scene::load_str(text, file).unwrap();
+    let job = prism::load::load_str(text, file).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -169,7 +169,7 @@ fn bad_sensors_name_the_field() {
         ("sensor: (), outputs: (bands: 3),", "outputs", "both"),
     ];
     for (sensor, field, text) in cases {
-        let err = match prism::scene::load_str(&scene(sensor), Path::new("inline.ron")) {
+        let err = match prism::load::load_str(&scene(sensor), Path::new("inline.ron")) {
             Err(e) => e,
             Ok(_) => panic!("{sensor}: accepted"),
         };
@@ -228,7 +228,7 @@ fn sensor_wavelength_sampling_chi_square() {
         "sensor: (rgb: [Srgb], bands: [Filter(name: \"nir\", curve: Gaussian(centre: 850, fwhm: 40))], camera: (curves: Named(\"sony_ilce_7m3\"))),",
     )
     .replace("sampling: Uniform", "sampling: Sensor");
-    let job = prism::scene::load_str(&text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(&text, Path::new("inline.ron")).unwrap();
     let ws = job.settings.wavelengths;
     let (lo, hi) = ws.range();
     let bins = 64;
@@ -295,11 +295,7 @@ fn rgb_data_past_their_range_are_named() {
         )
     };
     let file = repo.join("scenes/nir_warnings.ron");
-    let warnings = |range: &str| {
-        prism::scene::load_str(&text(range), &file)
-            .unwrap()
-            .warnings
-    };
+    let warnings = |range: &str| prism::load::load_str(&text(range), &file).unwrap().warnings;
     let nir = warnings("(300, 1100)");
     let has = |field: &str, what: &str| {
         nir.iter()

@@ -7,7 +7,7 @@ use prism::integrator::{self, RenderStats};
 use std::path::Path;
 
 fn render(text: &str) -> (Film, RenderStats) {
-    let job = prism::scene::load_str(text, Path::new("inline.ron")).unwrap();
+    let job = prism::load::load_str(text, Path::new("inline.ron")).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()

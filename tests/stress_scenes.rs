@@ -24,7 +24,7 @@ fn stress_scenes_have_no_invalid_samples() {
     let mut failures = Vec::new();
     for scene in &scenes {
         for seed in [1u64, 2] {
-            let job = prism::scene::load(Path::new(scene), |cfg| {
+            let job = prism::load::load(Path::new(scene), |cfg| {
                 cfg.sampler.spp = 16;
                 cfg.sampler.seed = seed;
             })

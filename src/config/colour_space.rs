@@ -25,7 +25,7 @@ pub fn by_name(file: &Path, field: &str, name: &str) -> Result<Gamut, InputError
 
 #[cfg(test)]
 mod tests {
-    use crate::scene::load_str;
+    use crate::load::load_str;
     use std::path::Path;
 
     fn scene(material: &str, emitter: &str, range: (u32, u32)) -> String {

@@ -14,7 +14,6 @@
 pub mod camera;
 pub mod colour_space;
 mod emitter;
-pub mod input_file;
 pub mod ior;
 mod material;
 mod parse;

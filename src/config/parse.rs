@@ -27,8 +27,8 @@ pub fn parse_str(text: &str, file: &Path) -> Result<SceneConfig, InputError> {
 
 /// Reads and parses a scene file.
 pub fn parse_file(path: &Path) -> Result<SceneConfig, Error> {
-    crate::scene::inputs::record(path);
-    let bytes = super::input_file::read(path, super::input_file::Kind::Scene)
+    crate::io::inputs::record(path);
+    let bytes = crate::io::input_file::read(path, crate::io::input_file::Kind::Scene)
         .map_err(|m| InputError::new(path, m))?;
     let text = utf8(bytes, path)?;
     Ok(parse_str(&text, path)?)

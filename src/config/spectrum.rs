@@ -238,7 +238,7 @@ impl SpectrumConfig {
                 let img = texture::load_rgb(&full, *raw).map_err(|m| {
                     let err = ctx.err(m);
                     let hint = "texture paths are relative to the scene file";
-                    crate::scene::inputs::missing_hint(err, &full, hint)
+                    crate::io::inputs::missing_hint(err, &full, hint)
                 })?;
                 img.validate(texture::TexelRange::Reflectance)
                     .map_err(|m| ctx.err(m))?;

@@ -24,7 +24,7 @@ pub struct Base {
     /// Shape index by name.
     pub names: BTreeMap<String, usize>,
     /// The base scene as built at load, for the first frame's geometry (`GeometryCache::seed`).
-    pub built: Option<crate::scene::Job>,
+    pub built: Option<crate::load::Job>,
     /// Every other file the dataset reads (the base scene's meshes, textures, spectra and
     /// envmap; the variations' envmaps and sensor files), whose contents `dataset.json` hashes.
     pub inputs: Vec<PathBuf>,
@@ -56,9 +56,9 @@ impl Base {
             .into());
         }
         // The files the load reads (meshes, textures, spectra, the envmap), for `dataset.json`.
-        let (loaded, read) = crate::scene::inputs::collect(|| -> Result<_, Error> {
+        let (loaded, read) = crate::io::inputs::collect(|| -> Result<_, Error> {
             let scene = crate::config::parse_file(&scene_file)?;
-            let job = crate::scene::build(scene.clone(), &scene_file)?;
+            let job = crate::load::build(scene.clone(), &scene_file)?;
             Ok((scene, job))
         });
         let (scene, job) = loaded?;
@@ -200,8 +200,8 @@ impl Base {
         let mut all = Vec::new();
         for f in files {
             let field = SensorField::File(SensorFile::File(super::plan::absolute(&dir.join(f))));
-            let (r, read) = crate::scene::inputs::collect(|| {
-                crate::sensor::setup::build(
+            let (r, read) = crate::io::inputs::collect(|| {
+                crate::load::sensor::build(
                     Some(&field),
                     &Default::default(),
                     &self.scene_file,

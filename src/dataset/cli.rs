@@ -33,7 +33,7 @@ pub struct DatasetArgs {
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]
-    pub workers: crate::cli::WorkerArgs,
+    pub workers: crate::pipeline::WorkerArgs,
 }
 
 /// Runs `prism dataset`; exit code 1 if a frame failed.
@@ -44,7 +44,7 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
         .map(|s| parse_frames(s, &args.config))
         .transpose()?;
     let shard = shard(args, &|k| std::env::var(k).ok())?;
-    let pool = crate::cli::worker_pool(args.workers.threads, &args.config)?;
+    let pool = crate::pipeline::worker_pool(args.workers.threads, &args.config)?;
     let opts = Options {
         frames,
         shard,

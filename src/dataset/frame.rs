@@ -17,7 +17,7 @@ use std::time::Instant;
 #[derive(Default)]
 pub struct GeometryCache {
     key: String,
-    job: Option<crate::scene::Job>,
+    job: Option<crate::load::Job>,
     /// How many times geometry was built.
     pub builds: u32,
 }
@@ -42,7 +42,7 @@ fn geometry_key(cfg: &SceneConfig) -> String {
 
 impl GeometryCache {
     /// A cache holding an already built job (the base scene's, built at load).
-    pub fn seed(job: crate::scene::Job) -> GeometryCache {
+    pub fn seed(job: crate::load::Job) -> GeometryCache {
         GeometryCache {
             key: geometry_key(&job.config),
             job: Some(job),
@@ -52,7 +52,7 @@ impl GeometryCache {
 
     /// The job for `cfg`: built in full when its geometry differs from the cached one's, else the
     /// cached geometry with everything else built from `cfg`.
-    fn job(&mut self, cfg: SceneConfig, file: &Path) -> Result<&crate::scene::Job, Error> {
+    fn job(&mut self, cfg: SceneConfig, file: &Path) -> Result<&crate::load::Job, Error> {
         let key = geometry_key(&cfg);
         match &mut self.job {
             Some(job) if key == self.key => {
@@ -67,7 +67,7 @@ impl GeometryCache {
                         s.to_world.clear();
                     }
                 }
-                let new = crate::scene::build(light, file)?;
+                let new = crate::load::build(light, file)?;
                 let (sc, n) = (&mut job.scene, new.scene);
                 sc.camera = n.camera;
                 sc.shape_material = n.shape_material;
@@ -80,7 +80,7 @@ impl GeometryCache {
                 job.config = new.config;
             }
             _ => {
-                self.job = Some(crate::scene::build(cfg, file)?);
+                self.job = Some(crate::load::build(cfg, file)?);
                 self.key = key;
                 self.builds += 1;
             }

@@ -302,7 +302,7 @@ fn in_view(
     if watched.is_empty() {
         return Ok(true);
     }
-    let t = crate::scene::transform(&cam.to_world, file, "camera")?;
+    let t = crate::load::transform(&cam.to_world, file, "camera")?;
     let f = &scene.film;
     let camera = Camera::new(
         t,

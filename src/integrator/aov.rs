@@ -22,7 +22,7 @@ pub fn uses_hits(aov: Aov) -> bool {
 /// scene's `boxes` needs them (then no ray is traced for them).
 /// `stderr`: the standard errors `render_film` returned (needed when `job.aovs` has `stderr`).
 pub fn add_layers(
-    job: &crate::scene::Job,
+    job: &crate::load::Job,
     film: &mut crate::film::Film,
     stderr: Option<&[f32]>,
 ) -> Option<Vec<Option<Hit>>> {

@@ -7,7 +7,7 @@ use crate::camera::Camera;
 use crate::error::Error;
 use crate::integrator::aov::Hit;
 use crate::integrator::RenderStats;
-use crate::scene::Job;
+use crate::load::Job;
 use glam::{DMat3, DMat4};
 use serde_json::{json, Value};
 use sha2::{Digest, Sha256};

@@ -21,7 +21,6 @@ pub mod names;
 pub mod observer;
 pub mod raw;
 pub mod sampling;
-pub mod setup;
 
 pub use bands::{Bands, Response, Shape};
 pub use camera::CameraModel;

@@ -11,7 +11,7 @@ mod ply;
 
 /// Loads an OBJ or PLY file by its extension.
 pub fn load(path: &Path) -> Result<Mesh, String> {
-    crate::scene::inputs::record(path);
+    crate::io::inputs::record(path);
     let ext = path
         .extension()
         .and_then(|e| e.to_str())

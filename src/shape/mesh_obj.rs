@@ -11,7 +11,7 @@ pub(super) fn load_obj(path: &Path) -> Result<Mesh, String> {
         single_index: true,
         ..Default::default()
     };
-    let file = crate::config::input_file::open(path, crate::config::input_file::Kind::Mesh)?;
+    let file = crate::io::input_file::open(path, crate::io::input_file::Kind::Mesh)?;
     // prism takes materials from the scene, so `mtllib` files are not opened at all.
     let (models, _materials) =
         tobj::load_obj_buf(&mut std::io::BufReader::new(file), &opts, |_| {

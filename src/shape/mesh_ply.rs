@@ -137,7 +137,7 @@ fn has_trailing_data(reader: &mut Reader<impl std::io::BufRead>, ascii: bool) ->
 
 pub(super) fn load_ply(path: &Path) -> Result<Mesh, String> {
     let name = path.display();
-    let file = crate::config::input_file::open(path, crate::config::input_file::Kind::Mesh)?;
+    let file = crate::io::input_file::open(path, crate::io::input_file::Kind::Mesh)?;
     let mut reader = Reader::new(std::io::BufReader::new(file));
     let header = Parser::<PlyOther>::new()
         .read_header(&mut reader)

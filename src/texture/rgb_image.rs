@@ -2,7 +2,7 @@
 //! their texels' range, and uplifting them into the textures of `super`.
 
 use super::*;
-use crate::config::input_file;
+use crate::io::input_file;
 use crate::spectrum::gamut::Gamut;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
 
@@ -18,7 +18,7 @@ pub struct RgbImage {
 /// Reads a PNG/JPEG (8/16-bit; sRGB-decoded unless `raw`), OpenEXR (linear) or Radiance HDR
 /// (linear) image. Errors are plain messages naming the file.
 pub fn load_rgb(path: &std::path::Path, raw: bool) -> Result<RgbImage, String> {
-    crate::scene::inputs::record(path);
+    crate::io::inputs::record(path);
     let ext = path
         .extension()
         .and_then(|e| e.to_str())

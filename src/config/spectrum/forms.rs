@@ -60,11 +60,11 @@ impl SpectrumConfig {
             }
             SpectrumConfig::File { path, column } => {
                 let full = ctx.file.parent().unwrap_or(Path::new(".")).join(path);
-                crate::scene::inputs::record(&full);
-                let bytes = crate::config::input_file::read(&full, crate::config::input_file::Kind::Spectrum)
+                crate::io::inputs::record(&full);
+                let bytes = crate::io::input_file::read(&full, crate::io::input_file::Kind::Spectrum)
                     .map_err(|m| {
                         let hint = "paths are relative to the scene file";
-                        crate::scene::inputs::missing_hint(ctx.err(m), &full, hint)
+                        crate::io::inputs::missing_hint(ctx.err(m), &full, hint)
                     })?;
                 let text = crate::config::parse::utf8(bytes, &full)?;
                 let t = table::parse(&text).map_err(|e| {

@@ -269,7 +269,7 @@ impl Base {
                         )
                         .hint("paths are relative to the dataset config (configs/sensors/ holds presets)"));
                 }
-                crate::sensor::setup::read_file(&p)?;
+                crate::load::sensor::read_file(&p)?;
             }
         }
         if let Some(e) = v.exposure {

@@ -253,7 +253,7 @@ fn area_light_points_and_directions_match_their_density() {
              to_world: [Scale((0.5, 0.5, 1)), Rotate(axis: (1, 0, 0), angle: 90), Translate((0, 2, 0))]),
         ],
     )"#;
-    let job = crate::scene::load_str(text, std::path::Path::new("area_chi2.ron")).unwrap();
+    let job = crate::load::load_str(text, std::path::Path::new("area_chi2.ron")).unwrap();
     let scene = &job.scene;
     let light = scene
         .emitters

@@ -260,7 +260,7 @@ mod tests {
             let text = format!(
                 "(film: (width: 2, height: 2), emitters: [Envmap(filename: \"{name}\")], outputs: (bands: 0))"
             );
-            let job = crate::scene::load_str(&text, &dir.join("scene.ron")).unwrap();
+            let job = crate::load::load_str(&text, &dir.join("scene.ron")).unwrap();
             job.scene.emitters[0].clone()
         };
         let (hdr, exr) = (load("map.hdr"), load("map.exr"));

@@ -4,11 +4,11 @@
 mod band_groups;
 mod camera_model;
 
-use super::bands::{Response, Shape};
-use super::{Layers, Observer, RgbSpace, Sensor};
 use crate::config::sensor::{BandConfig, SensorConfig, SensorField, SensorFile};
 use crate::config::OutputConfig;
 use crate::error::InputError;
+use crate::sensor::bands::{Response, Shape};
+use crate::sensor::{Layers, Observer, RgbSpace, Sensor};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
@@ -34,7 +34,7 @@ impl At<'_> {
 
 /// Reads a sensor file (RON, a `SensorConfig`).
 pub fn read_file(path: &Path) -> Result<SensorConfig, InputError> {
-    crate::scene::inputs::record(path);
+    crate::io::inputs::record(path);
     let text = std::fs::read_to_string(path).map_err(|e| {
         InputError::new(path, format!("cannot read the sensor file: {e}"))
             .hint("sensor files are relative to the scene file (`--sensor` paths to the current directory)")
@@ -181,7 +181,13 @@ fn from_config(
                 };
                 at.err(&field, m).hint(fix)
             };
-            raw = Some(super::raw::build(r, &curves, cam.exposure, range, &err)?);
+            raw = Some(crate::sensor::raw::build(
+                r,
+                &curves,
+                cam.exposure,
+                range,
+                &err,
+            )?);
         }
         let (glo, ghi) = curves[1].support().unwrap_or(range);
         let g = Response {
@@ -205,7 +211,7 @@ fn from_config(
         layers.camera = Some(model);
     }
     // The raw sensor's photon slots come last, after the camera's.
-    let raw = raw.map(|r: super::raw::RawSetup| {
+    let raw = raw.map(|r: crate::sensor::raw::RawSetup| {
         responses.extend(r.photons);
         layers.header.extend(r.header);
         r.model
@@ -270,7 +276,7 @@ fn from_config(
         ));
     }
     let mut sensor = Sensor::with(cfg.observer, even, responses, layers);
-    sensor.raw = raw.map(|m| super::raw::RawModel {
+    sensor.raw = raw.map(|m| crate::sensor::raw::RawModel {
         slot: sensor.slots() - 3,
         ..m
     });

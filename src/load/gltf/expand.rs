@@ -64,7 +64,7 @@ pub fn expand(
     else {
         unreachable!("expand is called for glTF shapes only")
     };
-    let t = super::super::transform(&sc.to_world, file, &format!("{field}.to_world"))?;
+    let t = crate::load::transform(&sc.to_world, file, &format!("{field}.to_world"))?;
     let full = base.join(path);
     let model = super::take_or_open(&full).map_err(|e| {
         let hint = e.hint.clone().unwrap_or_default();
@@ -120,7 +120,7 @@ pub fn expand(
         by_name.insert(gltf_name.as_str(), lookup(prism_name, f)?);
     }
     let area = match &sc.emitter {
-        Some(e) => Some(crate::scene::emission::area_radiance(
+        Some(e) => Some(crate::load::emission::area_radiance(
             &e.radiance,
             file,
             &format!("{field}.emitter.radiance"),

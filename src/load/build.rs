@@ -217,7 +217,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
 
     // Outputs: the sensor (or the older `outputs`).
     let channels = FilmChannels {
-        sensor: crate::sensor::setup::build(
+        sensor: crate::load::sensor::build(
             cfg.sensor.as_ref(),
             &cfg.outputs,
             file,

@@ -14,7 +14,7 @@ use crate::bsdf::microfacet::Distribution;
 use crate::bsdf::{Material, PrincipledParams, SpecularColorTexture};
 use crate::emitter::AreaRadiance;
 use crate::error::InputError;
-use crate::scene::principled::{f0_from_ior, rgb_factor};
+use crate::load::principled::{f0_from_ior, rgb_factor};
 use crate::spectrum::{rgb2spec, Curve, Ior, RelativeIor};
 use crate::texture::{srgb_decode, FloatTexture, Grid, SpectralTexture, TexFilter, UvMap, Wrap};
 use glam::{Vec2, Vec3};

@@ -1,19 +1,6 @@
 //! The render-ready scene: world-space shapes with their materials and emitters, the camera,
-//! and the acceleration structure. `scene::load` builds it from a config; the integrator only
+//! and the acceleration structure. `load` builds it from a config; the integrator only
 //! reads it.
-
-mod build;
-mod camera;
-mod emission;
-mod emitters;
-pub mod extent;
-mod geometry;
-pub mod gltf;
-pub mod inputs;
-pub mod instancing;
-mod materials;
-mod objects;
-mod principled;
 
 use crate::accel::{Accel, AccelKind, Prim};
 use crate::bsdf::Material;
@@ -22,9 +9,6 @@ use crate::emitter::Emitter;
 use crate::interaction::SurfaceInteraction;
 use crate::ray::Ray;
 use crate::shape::Shape;
-pub use build::{build, load, load_str, Job};
-pub use geometry::transform;
-pub use objects::{Object, Objects};
 
 pub struct Scene {
     pub camera: Camera,

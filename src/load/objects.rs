@@ -213,7 +213,7 @@ mod tests {
             ),
         )
         .unwrap();
-        let job = crate::scene::load(&scene, |_| {}).unwrap();
+        let job = crate::load::load(&scene, |_| {}).unwrap();
         let o = &job.objects;
         let names: Vec<&str> = o.list.iter().map(|x| x.name.as_str()).collect();
         assert_eq!(

@@ -15,8 +15,8 @@ mod lights;
 mod materials;
 mod nodes;
 
-use crate::config::input_file::{self, Kind};
 use crate::error::InputError;
+use crate::io::input_file::{self, Kind};
 use serde_json::Value;
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
@@ -109,7 +109,7 @@ fn take_or_open(path: &Path) -> Result<Model, InputError> {
 pub fn open(path: &Path) -> Result<Model, InputError> {
     #[cfg(test)]
     OPENED.with(|n| n.set(n.get() + 1));
-    crate::scene::inputs::record(path);
+    crate::io::inputs::record(path);
     let bytes = input_file::read(path, Kind::Gltf).map_err(|e| {
         InputError::new(path, e).hint("glTF paths in a scene are relative to the scene file")
     })?;
@@ -208,7 +208,7 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
         let what = match b.source() {
             gltf::buffer::Source::Uri(u) if u.starts_with("data:") => "its data URI".to_string(),
             gltf::buffer::Source::Uri(u) => {
-                crate::scene::inputs::record(&base.join(u));
+                crate::io::inputs::record(&base.join(u));
                 check_external(path, base, u, Kind::Gltf, &format!("{field}.uri"))?;
                 format!("\"{u}\"")
             }
@@ -244,7 +244,7 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
                 "its data URI".to_string()
             }
             gltf::image::Source::Uri { uri, .. } => {
-                crate::scene::inputs::record(&base.join(uri));
+                crate::io::inputs::record(&base.join(uri));
                 check_external(path, base, uri, Kind::Texture, &format!("{field}.uri"))?;
                 format!("\"{uri}\"")
             }
@@ -385,12 +385,12 @@ mod tests {
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gltf/Box.gltf");
         let opened = || super::OPENED.with(|n| n.get());
         let before = opened();
-        let job = crate::scene::load(&path, |_| {}).unwrap();
+        let job = crate::load::load(&path, |_| {}).unwrap();
         assert_eq!(opened() - before, 1);
         assert_eq!(job.scene.primitive_count(), 12);
         assert!(job.inputs.contains(&path), "{:?}", job.inputs);
         // The model is used up: a second load reads it again (once).
-        crate::scene::load(&path, |_| {}).unwrap();
+        crate::load::load(&path, |_| {}).unwrap();
         assert_eq!(opened() - before, 2);
     }
 

@@ -122,7 +122,7 @@ fn float_in(
             let img = texture::load_rgb(&full, *raw).map_err(|m| {
                 let err = InputError::new(file, m).field(field);
                 let hint = "texture paths are relative to the scene file";
-                crate::scene::inputs::missing_hint(err, &full, hint)
+                crate::io::inputs::missing_hint(err, &full, hint)
             })?;
             img.validate(range)
                 .map_err(|m| InputError::new(file, m).field(field))?;

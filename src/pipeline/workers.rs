@@ -40,7 +40,7 @@ pub fn worker_pool(threads: Option<usize>, file: &Path) -> Result<rayon::ThreadP
 }
 
 /// Progress: a bar with ETA and throughput on a terminal, a plain line every 10% otherwise.
-pub(super) struct Reporter {
+pub(crate) struct Reporter {
     bar: Option<ProgressBar>,
     total: u64,
     done: AtomicU64,
@@ -49,7 +49,7 @@ pub(super) struct Reporter {
 }
 
 impl Reporter {
-    pub(super) fn new(total: u64, quiet: bool) -> Self {
+    pub(crate) fn new(total: u64, quiet: bool) -> Self {
         let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
             let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
             b.set_style(
@@ -67,7 +67,7 @@ impl Reporter {
         }
     }
 
-    pub(super) fn add(&self, n: u64) {
+    pub(crate) fn add(&self, n: u64) {
         let before = self.done.fetch_add(n, Ordering::Relaxed);
         let now = before + n;
         let msps = now as f64 / self.start.elapsed().as_secs_f64().max(1e-9) / 1e6;
@@ -82,7 +82,7 @@ impl Reporter {
         }
     }
 
-    pub(super) fn finish(&self) {
+    pub(crate) fn finish(&self) {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
         }

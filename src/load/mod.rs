@@ -1,0 +1,25 @@
+//! The loader: the one place that turns a scene description (RON `config`, glTF) into engine
+//! objects — materials, emitters, geometry, instancing, objects, the camera, the sensor and its
+//! raw read-out — with every check of a value against its range. It sits above `config` and the
+//! engine; nothing in the engine or the integrator imports it (docs/ARCHITECTURE.md).
+
+mod build;
+mod camera;
+mod emission;
+mod emitters;
+pub mod extent;
+mod geometry;
+pub mod gltf;
+pub mod instancing;
+mod materials;
+mod objects;
+mod principled;
+pub mod sensor;
+
+/// The input-file record, as the loader's modules name it (`super::inputs`).
+use crate::io::inputs;
+/// The scene the loader builds (`super::Scene`).
+use crate::scene::Scene;
+pub use build::{build, load, load_str, Job};
+pub use geometry::transform;
+pub use objects::{Object, Objects};
