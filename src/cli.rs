@@ -1,7 +1,6 @@
 //! The `prism` command line.
 
 use crate::error::Error;
-use crate::integrator::{self, RenderStats};
 use crate::output;
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -256,30 +255,16 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     let s = &job.settings;
     let total = s.width as u64 * s.height as u64 * s.spp as u64;
     let reporter = Reporter::new(total, args.workers.quiet);
-    let t_render = Instant::now();
-    let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
-    let (mut film, stats, se) = pool.install(|| {
-        integrator::render_film(&job.scene, s, &job.channels, stderr, &|n| reporter.add(n))
-    });
-    let render_s = t_render.elapsed().as_secs_f64();
+    let r = pool.install(|| crate::pipeline::render(&job, 1.0, &|n| reporter.add(n)));
     reporter.finish();
-    let hits = pool.install(|| integrator::aov::add_layers(&job, &mut film, Some(&se)));
-
-    let extra = metadata(args, &job, &stats, render_s);
-    output::exr::write(&film, &out, &extra)?;
-    let sidecar = output::sidecar::path_for(&out);
-    output::sidecar::write(
-        &sidecar,
-        &job,
-        &args.scene,
-        &out,
-        hits.as_deref(),
-        &stats,
-        render_s,
-    )?;
-    if let Some(p) = &args.preview {
-        output::png::write(&film, p, args.exposure)?;
-    }
+    let files = crate::pipeline::Files {
+        scene: &args.scene,
+        exr: &out,
+        sidecar: crate::pipeline::Sidecar::Render,
+        preview: args.preview.as_deref().map(|p| (p, args.exposure)),
+    };
+    crate::pipeline::write(&job, &r, &files)?;
+    let (stats, render_s) = (&r.stats, r.seconds);
     let msps = stats.samples as f64 / render_s / 1e6;
     eprintln!(
         "rendered {}x{} at {} spp ({:.1} Msamples) in {:.2} s ({:.2} Msamples/s, {} thread{}); scene load {:.2} s; {} invalid samples{} -> {}",
@@ -325,53 +310,4 @@ fn default_output(scene: &Path) -> PathBuf {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "render".into());
     PathBuf::from(format!("{stem}.exr"))
-}
-
-fn metadata(
-    args: &RenderArgs,
-    job: &crate::load::Job,
-    stats: &RenderStats,
-    seconds: f64,
-) -> Vec<(String, String)> {
-    let s = &job.settings;
-    let (lo, hi) = s.wavelengths.range();
-    vec![
-        ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
-        ("prism:scene".into(), args.scene.display().to_string()),
-        ("prism:spp".into(), s.spp.to_string()),
-        ("prism:seed".into(), s.seed.to_string()),
-        ("prism:sampler".into(), format!("{:?}", s.sampler)),
-        ("prism:accel".into(), format!("{:?}", job.config.accel)),
-        (
-            "prism:wavelengths".into(),
-            format!(
-                "{} per path, {:?} over {lo}-{hi} nm",
-                s.lanes,
-                s.wavelengths.kind()
-            ),
-        ),
-        (
-            "prism:integrator".into(),
-            format!(
-                "path max_depth {} rr_depth {} hide_emitters {} clamp {} caustics {}",
-                s.path.max_depth,
-                s.path.rr_depth,
-                s.path.hide_emitters,
-                s.path.clamp.map_or("off".into(), |c| c.to_string()),
-                s.path.caustics.map_or("off".into(), |c| format!(
-                    "(light_paths {}, bright_ratio {}, max_roughness {}, area_lights {})",
-                    c.light_paths, c.bright_ratio, c.max_roughness, c.area_lights
-                ))
-            ),
-        ),
-        (
-            "prism:clampedSamples".into(),
-            stats.clamped_samples.to_string(),
-        ),
-        (
-            "prism:invalidSamples".into(),
-            stats.invalid_samples.to_string(),
-        ),
-        ("prism:renderSeconds".into(), format!("{seconds:.3}")),
-    ]
 }

@@ -1084,7 +1084,7 @@ fn normal_maps_on_mirrored_uvs() {
         assert!(job.warnings.is_empty(), "{:?}", job.warnings);
         let mut film =
             prism::integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
-        prism::integrator::aov::add_layers(&job, &mut film, None);
+        prism::pipeline::add_layers(&job, &mut film, None);
         let ch = |c: &str| film.channel(&format!("normal.{c}")).unwrap().to_vec();
         let (x, y, z) = (ch("X"), ch("Y"), ch("Z"));
         let mut seen = 0;
@@ -1145,7 +1145,7 @@ fn gltf_orthographic_camera_matches_ron_camera() {
     assert_eq!(direct.scene.camera, via_ron.scene.camera);
     let full = |job: &prism::load::Job| {
         let mut f = prism::integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
-        prism::integrator::aov::add_layers(job, &mut f, None);
+        prism::pipeline::add_layers(job, &mut f, None);
         f
     };
     let (a, b) = (full(&direct), full(&via_ron));

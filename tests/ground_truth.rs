@@ -7,7 +7,7 @@
 use glam::DVec3;
 use prism::error::Error;
 use prism::film::Film;
-use prism::integrator::{self, aov};
+use prism::integrator;
 use std::path::Path;
 
 const SCENE: &str = r#"(
@@ -31,7 +31,7 @@ fn layers(text: &str, threads: usize) -> Film {
         .unwrap();
     pool.install(|| {
         let mut film = integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
-        aov::add_layers(&job, &mut film, None);
+        prism::pipeline::add_layers(&job, &mut film, None);
         film
     })
 }

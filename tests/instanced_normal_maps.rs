@@ -290,7 +290,7 @@ fn instanced_normal_maps_follow_their_node() {
 
 fn render(job: &prism::load::Job) -> Film {
     let mut film = prism::integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
-    prism::integrator::aov::add_layers(job, &mut film, None);
+    prism::pipeline::add_layers(job, &mut film, None);
     film
 }
 

@@ -8,7 +8,7 @@
 mod common;
 
 use prism::film::Film;
-use prism::integrator::{self, aov};
+use prism::integrator;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -98,7 +98,7 @@ fn twin_scene(flatten: bool) -> String {
 
 fn render(job: &prism::load::Job) -> Film {
     let mut film = integrator::render(&job.scene, &job.settings, &job.channels, &|_| {}).0;
-    aov::add_layers(job, &mut film, None);
+    prism::pipeline::add_layers(job, &mut film, None);
     film
 }
 

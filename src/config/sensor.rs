@@ -18,6 +18,7 @@
 //! ```
 
 use super::SpectrumConfig;
+pub use crate::sensor::raw::{BayerPattern, Gain};
 use crate::sensor::{Observer, RgbSpace};
 use serde::de::value::MapAccessDeserializer;
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
@@ -261,44 +262,4 @@ impl Default for RawConfig {
             noise: true,
         }
     }
-}
-
-/// The colour of the 2×2 Bayer tile's four sites, read left to right, top row first, from the
-/// image's top-left pixel (row 0 at the top).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum BayerPattern {
-    #[default]
-    Rggb,
-    Bggr,
-    Grbg,
-    Gbrg,
-}
-
-impl BayerPattern {
-    pub const ALL: [BayerPattern; 4] = [
-        BayerPattern::Rggb,
-        BayerPattern::Bggr,
-        BayerPattern::Grbg,
-        BayerPattern::Gbrg,
-    ];
-
-    /// The camera channel (0 = R, 1 = G, 2 = B) of pixel (x, y).
-    pub fn channel(self, x: u32, y: u32) -> usize {
-        let tile: [usize; 4] = match self {
-            BayerPattern::Rggb => [0, 1, 1, 2],
-            BayerPattern::Bggr => [2, 1, 1, 0],
-            BayerPattern::Grbg => [1, 0, 2, 1],
-            BayerPattern::Gbrg => [1, 2, 0, 1],
-        };
-        tile[((y & 1) * 2 + (x & 1)) as usize]
-    }
-}
-
-/// The conversion gain, DN per photo-electron: `PerElectron(g)`, or `UnityIso(u)`: g = ISO / u
-/// with the ISO of `camera.exposure` (u is the ISO at which one electron is one DN).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum Gain {
-    PerElectron(f64),
-    UnityIso(f64),
 }

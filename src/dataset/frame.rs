@@ -5,8 +5,6 @@
 
 use crate::config::{SceneConfig, ShapeKind};
 use crate::error::Error;
-use crate::integrator;
-use crate::output;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -113,61 +111,19 @@ pub fn render_frame(
 ) -> Result<FrameResult, Error> {
     let t = Instant::now();
     let job = cache.job(scene, scene_file)?;
-    let s = &job.settings;
-    let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
-    let (mut film, stats, se) =
-        integrator::render_film(&job.scene, s, &job.channels, stderr, &|_| {});
-    // The sensor variation's exposure: before the AOVs join, the film holds the sensor's
-    // channels alone (one multiply per pixel and channel, none per sample).
-    if exposure_scale != 1.0 {
-        for c in &mut film.channels {
-            c.data.iter_mut().for_each(|v| *v *= exposure_scale);
-        }
-    }
-    // The scene's AOV layers, and the pixel-centre hits the sidecar's boxes come from (when
-    // a layer or `boxes` asked for them).
-    let hits = integrator::aov::add_layers(job, &mut film, Some(&se));
+    let r = crate::pipeline::render(job, exposure_scale, &|_| {});
     let exr = stem.with_extension("exr");
-    let extra = vec![
-        ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
-        ("prism:spp".into(), s.spp.to_string()),
-        ("prism:seed".into(), s.seed.to_string()),
-        (
-            "prism:invalidSamples".into(),
-            stats.invalid_samples.to_string(),
-        ),
-    ];
-    output::exr::write(&film, &exr, &extra)?;
-    let mut files = vec![exr.clone()];
-    if let Some(exposure) = preview {
-        let png = stem.with_extension("png");
-        output::png::write(&film, &png, exposure)?;
-        files.push(png);
-    }
-    let json = stem.with_extension("json");
-    // The frame's sidecar (camera, sensor, objects; docs/sidecar.md) with its sampled
-    // parameters under `frame`.
-    let mut sidecar = output::sidecar::value(
-        job,
-        scene_file,
-        &exr,
-        hits.as_deref(),
-        &stats,
-        t.elapsed().as_secs_f64(),
-    );
-    sidecar["frame"] = params.clone();
-    // A frame's files depend on (config, frame index) alone; its render time is in the
-    // manifest.
-    if let Some(r) = sidecar["render"].as_object_mut() {
-        r.remove("seconds");
-    }
-    let mut text = serde_json::to_string_pretty(&sidecar)
-        .map_err(|e| Error::Other(format!("frame parameters: {e}")))?;
-    text.push('\n');
-    output::write_atomic(&json, |tmp| {
-        std::fs::write(tmp, &text).map_err(|e| e.to_string())
-    })?;
-    files.insert(1, json);
+    let png = stem.with_extension("png");
+    // The frame's files: the same pipeline as `prism render`, its sidecar with the sampled
+    // parameters under `frame` (docs/sidecar.md).
+    let files = crate::pipeline::Files {
+        scene: scene_file,
+        exr: &exr,
+        sidecar: crate::pipeline::Sidecar::Frame(params),
+        preview: preview.map(|e| (png.as_path(), e)),
+    };
+    let files = crate::pipeline::write(job, &r, &files)?;
+    let stats = r.stats;
     Ok(FrameResult {
         files,
         invalid_samples: stats.invalid_samples,

@@ -1,17 +1,10 @@
 //! The rendered image: named float channels, one value per pixel, in row-major order (row 0 at
-//! the top). The integrator fills it; the output writers read it.
+//! the top). The integrator fills it (through `sensor::FilmChannels::develop`); the output
+//! writers read it. A plain image of the base floor: it knows no sensor.
 
 pub mod aov;
 
 pub use aov::{Aov, UintChannel};
-
-use crate::sensor::Sensor;
-
-/// Which channels the film keeps: the sensor's.
-#[derive(Clone, Debug)]
-pub struct FilmChannels {
-    pub sensor: Sensor,
-}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
@@ -38,28 +31,6 @@ pub fn spectral_channel_name(nm: f32) -> String {
 }
 
 impl Film {
-    /// Builds the film from per-pixel accumulator means (`slots` values per pixel, laid out
-    /// as the sensor's `add` accumulates them).
-    pub fn from_means(
-        width: u32,
-        height: u32,
-        spec: &FilmChannels,
-        means: &[f32],
-        slots: usize,
-    ) -> Film {
-        let n = (width * height) as usize;
-        debug_assert_eq!(means.len(), n * slots);
-        let (channels, band_centers) = spec.sensor.channels(means, n);
-        Film {
-            width,
-            height,
-            channels,
-            band_centers,
-            uint_channels: Vec::new(),
-            header: spec.sensor.layers.header.clone(),
-        }
-    }
-
     /// Pixels with a non-finite value in any channel: an accumulation that overflowed f32
     /// although every sample was finite. One pass over the image, after rendering.
     pub fn nonfinite_pixels(&self) -> u64 {
@@ -80,19 +51,6 @@ impl Film {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Finite means can still overflow in the RGB conversion (3e38 · 3.24 > f32::MAX): such a
-    /// pixel is counted, a normal one is not.
-    #[test]
-    fn overflowed_pixels_are_counted() {
-        let spec = FilmChannels {
-            sensor: crate::sensor::Sensor::new(None),
-        };
-        let means = [0.2, 0.3, 0.1, 3e38, 3e38, 3e38];
-        let film = Film::from_means(2, 1, &spec, &means, 3);
-        assert!(film.channel("X").unwrap().iter().all(|v| v.is_finite()));
-        assert_eq!(film.nonfinite_pixels(), 1);
-    }
 
     #[test]
     fn fichet_channel_names() {

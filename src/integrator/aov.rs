@@ -3,6 +3,7 @@
 //! colour pass is the same code with or without it; the pixel-centre rays are traced only when a
 //! layer needs them or the scene asks for the sidecar's boxes (`boxes: true`, `--boxes`), so a
 //! render without AOVs traces nothing more than its colour pass. Conventions in `film::aov`.
+//! `pipeline::add_layers` runs the pass for a loaded job (the integrator knows no job).
 
 use super::RenderSettings;
 use crate::camera::Camera;
@@ -17,35 +18,8 @@ pub fn uses_hits(aov: Aov) -> bool {
     !matches!(aov, Aov::Alpha | Aov::Stderr)
 }
 
-/// Runs the AOV pass: adds the layers `job.aovs` asks for to `film` and returns the
-/// pixel-centre hits the sidecar's boxes come from: `None` when neither a layer nor the
-/// scene's `boxes` needs them (then no ray is traced for them).
-/// `stderr`: the standard errors `render_film` returned (needed when `job.aovs` has `stderr`).
-pub fn add_layers(
-    job: &crate::load::Job,
-    film: &mut crate::film::Film,
-    stderr: Option<&[f32]>,
-) -> Option<Vec<Option<Hit>>> {
-    let s = &job.settings;
-    let hits = (job.config.boxes || job.aovs.iter().any(|&a| uses_hits(a)))
-        .then(|| first_hits(&job.scene, s.width, s.height));
-    let none = Vec::new();
-    let h = hits.as_deref().unwrap_or(&none);
-    let (floats, ids) = layers(&job.scene, s, h, &job.aovs, &job.objects.label_ids());
-    film.channels.extend(floats);
-    film.uint_channels.extend(ids);
-    if let (true, Some(se)) = (job.aovs.contains(&Aov::Stderr), stderr) {
-        film.channels.extend(stderr_layers(se, &job.channels));
-    }
-    if job.aovs.contains(&Aov::Albedo) {
-        film.channels
-            .extend(super::albedo::layers(&job.scene, h, &job.channels.sensor));
-    }
-    hits
-}
-
 /// `stderr.Y` and one `stderr.<band>` per band, from per-pixel slot standard errors.
-fn stderr_layers(se: &[f32], channels: &crate::film::FilmChannels) -> Vec<Channel> {
+pub fn stderr_layers(se: &[f32], channels: &crate::sensor::FilmChannels) -> Vec<Channel> {
     let slots = channels.sensor.slots();
     let pick = |slot: usize| se.iter().skip(slot).step_by(slots).copied().collect();
     let mut out = vec![Channel {

@@ -6,10 +6,11 @@ pub mod aov;
 pub mod caustics;
 pub mod path;
 
-use crate::film::{Film, FilmChannels};
+use crate::film::Film;
 use crate::filter::Filter;
 use crate::sampler::{PixelSampler, SamplerKind};
 use crate::scene::Scene;
+use crate::sensor::FilmChannels;
 use crate::sensor::Sensor;
 use crate::spectrum::{Spectrum, WavelengthSampler};
 pub use caustics::CausticSettings;
@@ -86,13 +87,7 @@ pub fn render_film(
         (16, true) => render_lanes::<16, true>(scene, settings, sensor, progress),
         (n, _) => panic!("{n} wavelengths per path is not supported (config validation lets only {SUPPORTED_LANES:?} through)"),
     };
-    let mut film = Film::from_means(
-        settings.width,
-        settings.height,
-        channels,
-        &means,
-        sensor.slots(),
-    );
+    let mut film = channels.develop(settings.width, settings.height, &means, sensor.slots());
     if let Some(raw) = &sensor.raw {
         let (w, h, slots) = (settings.width, settings.height, sensor.slots());
         film.uint_channels

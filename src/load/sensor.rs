@@ -3,6 +3,7 @@
 
 mod band_groups;
 mod camera_model;
+mod raw;
 
 use crate::config::sensor::{BandConfig, SensorConfig, SensorField, SensorFile};
 use crate::config::OutputConfig;
@@ -181,13 +182,7 @@ fn from_config(
                 };
                 at.err(&field, m).hint(fix)
             };
-            raw = Some(crate::sensor::raw::build(
-                r,
-                &curves,
-                cam.exposure,
-                range,
-                &err,
-            )?);
+            raw = Some(raw::build(r, &curves, cam.exposure, range, &err)?);
         }
         let (glo, ghi) = curves[1].support().unwrap_or(range);
         let g = Response {
@@ -211,7 +206,7 @@ fn from_config(
         layers.camera = Some(model);
     }
     // The raw sensor's photon slots come last, after the camera's.
-    let raw = raw.map(|r: crate::sensor::raw::RawSetup| {
+    let raw = raw.map(|r: raw::RawSetup| {
         responses.extend(r.photons);
         layers.header.extend(r.header);
         r.model

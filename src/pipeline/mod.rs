@@ -1,5 +1,172 @@
-//! The render pipeline: what every subcommand that renders shares.
+//! The render pipeline: a loaded job → the colour pass → the AOV layers → EXR, JSON sidecar and
+//! PNG preview. One function each for `prism render` and `prism dataset` (and, later, the
+//! Python module), so both write the same files with the same EXR header keys.
 
+mod layers;
 pub mod workers;
 
+pub use layers::add_layers;
 pub use workers::{worker_pool, WorkerArgs};
+
+use crate::error::Error;
+use crate::film::{Aov, Film};
+use crate::integrator::aov::Hit;
+use crate::integrator::{self, RenderStats};
+use crate::load::Job;
+use crate::output;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What rendering a job gave.
+pub struct Rendered {
+    pub film: Film,
+    pub stats: RenderStats,
+    /// The pixel-centre hits the sidecar's boxes come from (when a layer or `boxes` asked).
+    pub hits: Option<Vec<Option<Hit>>>,
+    /// Seconds of the colour pass.
+    pub seconds: f64,
+}
+
+/// Renders `job` in the current rayon pool: the colour pass (`progress` gets sample counts),
+/// the sensor's channels scaled by `exposure_scale`, then the AOV layers.
+pub fn render(job: &Job, exposure_scale: f32, progress: &(dyn Fn(u64) + Sync)) -> Rendered {
+    let s = &job.settings;
+    let t = Instant::now();
+    let stderr = job.aovs.contains(&Aov::Stderr);
+    let (mut film, stats, se) =
+        integrator::render_film(&job.scene, s, &job.channels, stderr, progress);
+    let seconds = t.elapsed().as_secs_f64();
+    // A dataset's sensor variation: before the AOVs join, the film holds the sensor's channels
+    // alone (one multiply per pixel and channel, none per sample).
+    if exposure_scale != 1.0 {
+        for c in &mut film.channels {
+            c.data.iter_mut().for_each(|v| *v *= exposure_scale);
+        }
+    }
+    let hits = add_layers(job, &mut film, Some(&se));
+    Rendered {
+        film,
+        stats,
+        hits,
+        seconds,
+    }
+}
+
+/// Which sidecar a render writes.
+pub enum Sidecar<'a> {
+    /// `prism render`: the render's sidecar, its time included.
+    Render,
+    /// A dataset frame: its sampled parameters under `frame`, and no wall-clock time (a frame's
+    /// files depend on (config, frame index) alone; the manifest has the time).
+    Frame(&'a serde_json::Value),
+}
+
+/// Where a render's files go.
+pub struct Files<'a> {
+    /// The scene file the job came from (recorded in the header and sidecar).
+    pub scene: &'a Path,
+    pub exr: &'a Path,
+    pub sidecar: Sidecar<'a>,
+    /// A PNG preview and its exposure in stops.
+    pub preview: Option<(&'a Path, f32)>,
+}
+
+/// Writes the EXR, the JSON sidecar beside it and the preview, each atomically; returns them
+/// in that order.
+pub fn write(job: &Job, r: &Rendered, files: &Files) -> Result<Vec<PathBuf>, Error> {
+    let timed = matches!(files.sidecar, Sidecar::Render);
+    let extra = header(job, files.scene, &r.stats, timed.then_some(r.seconds));
+    output::exr::write(&r.film, files.exr, &extra)?;
+    let json = output::sidecar::path_for(files.exr);
+    match files.sidecar {
+        Sidecar::Render => output::sidecar::write(
+            &json,
+            job,
+            files.scene,
+            files.exr,
+            r.hits.as_deref(),
+            &r.stats,
+            r.seconds,
+        )?,
+        Sidecar::Frame(params) => {
+            let mut sidecar = output::sidecar::value(
+                job,
+                files.scene,
+                files.exr,
+                r.hits.as_deref(),
+                &r.stats,
+                r.seconds,
+            );
+            sidecar["frame"] = params.clone();
+            if let Some(r) = sidecar["render"].as_object_mut() {
+                r.remove("seconds");
+            }
+            let mut text = serde_json::to_string_pretty(&sidecar)
+                .map_err(|e| Error::Other(format!("frame parameters: {e}")))?;
+            text.push('\n');
+            output::write_atomic(&json, |tmp| {
+                std::fs::write(tmp, &text).map_err(|e| e.to_string())
+            })?;
+        }
+    }
+    let mut written = vec![files.exr.to_path_buf(), json];
+    if let Some((png, exposure)) = files.preview {
+        output::png::write(&r.film, png, exposure)?;
+        written.push(png.to_path_buf());
+    }
+    Ok(written)
+}
+
+/// The `prism:` attributes of every render's EXR header. `seconds`: the colour pass's time, or
+/// None for a dataset frame (whose files must not depend on the clock).
+pub fn header(
+    job: &Job,
+    scene: &Path,
+    stats: &RenderStats,
+    seconds: Option<f64>,
+) -> Vec<(String, String)> {
+    let s = &job.settings;
+    let (lo, hi) = s.wavelengths.range();
+    vec![
+        ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
+        ("prism:scene".into(), scene.display().to_string()),
+        ("prism:spp".into(), s.spp.to_string()),
+        ("prism:seed".into(), s.seed.to_string()),
+        ("prism:sampler".into(), format!("{:?}", s.sampler)),
+        ("prism:accel".into(), format!("{:?}", job.config.accel)),
+        (
+            "prism:wavelengths".into(),
+            format!(
+                "{} per path, {:?} over {lo}-{hi} nm",
+                s.lanes,
+                s.wavelengths.kind()
+            ),
+        ),
+        (
+            "prism:integrator".into(),
+            format!(
+                "path max_depth {} rr_depth {} hide_emitters {} clamp {} caustics {}",
+                s.path.max_depth,
+                s.path.rr_depth,
+                s.path.hide_emitters,
+                s.path.clamp.map_or("off".into(), |c| c.to_string()),
+                s.path.caustics.map_or("off".into(), |c| format!(
+                    "(light_paths {}, bright_ratio {}, max_roughness {}, area_lights {})",
+                    c.light_paths, c.bright_ratio, c.max_roughness, c.area_lights
+                ))
+            ),
+        ),
+        (
+            "prism:clampedSamples".into(),
+            stats.clamped_samples.to_string(),
+        ),
+        (
+            "prism:invalidSamples".into(),
+            stats.invalid_samples.to_string(),
+        ),
+        (
+            "prism:renderSeconds".into(),
+            seconds.map_or("see manifest.jsonl".into(), |t| format!("{t:.3}")),
+        ),
+    ]
+}

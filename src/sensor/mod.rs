@@ -16,6 +16,7 @@
 pub mod bands;
 pub mod camera;
 pub mod colour_space;
+pub mod develop;
 pub mod export;
 pub mod names;
 pub mod observer;
@@ -25,6 +26,7 @@ pub mod sampling;
 pub use bands::{Bands, Response, Shape};
 pub use camera::CameraModel;
 pub use colour_space::RgbSpace;
+pub use develop::FilmChannels;
 pub use observer::Observer;
 
 use crate::film::{spectral_channel_name, Channel};

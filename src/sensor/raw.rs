@@ -24,27 +24,62 @@
 //! is rounding's, for a spread wider than one DN). With `noise: false` the draws are skipped
 //! (e = min(S + D, full well), n = 0). The draws of pixel i come from ChaCha8 keyed by the
 //! render seed with stream i (a counter-based generator): the same bits at any thread count or
-//! tiling. It runs once on the finished film.
+//! tiling. It runs once on the finished film. The loader (`load::sensor::raw`) builds the model from
+//! the scene's `raw:` config; this module knows no config.
 
-use super::bands::{Response, Shape};
-use crate::config::sensor::{BayerPattern, ExposureConfig, Gain, RawConfig};
-use crate::error::InputError;
 use crate::film::UintChannel;
-use crate::spectrum::Curve;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Poisson, StandardNormal};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 /// The EXR channel of the mosaic.
 pub const CHANNEL: &str = "raw.Y";
 
-/// h · c (J m), exact in the SI.
-const H_C: f64 = 6.626_070_15e-34 * 299_792_458.0;
-
 /// Poisson means above this are saturated outright (far above any full well; rand_distr
 /// refuses means near 2^64).
 const SATURATED: f64 = 1e15;
+
+/// The colour of the 2×2 Bayer tile's four sites, read left to right, top row first, from the
+/// image's top-left pixel (row 0 at the top).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BayerPattern {
+    #[default]
+    Rggb,
+    Bggr,
+    Grbg,
+    Gbrg,
+}
+
+impl BayerPattern {
+    pub const ALL: [BayerPattern; 4] = [
+        BayerPattern::Rggb,
+        BayerPattern::Bggr,
+        BayerPattern::Grbg,
+        BayerPattern::Gbrg,
+    ];
+
+    /// The camera channel (0 = R, 1 = G, 2 = B) of pixel (x, y).
+    pub fn channel(self, x: u32, y: u32) -> usize {
+        let tile: [usize; 4] = match self {
+            BayerPattern::Rggb => [0, 1, 1, 2],
+            BayerPattern::Bggr => [2, 1, 1, 0],
+            BayerPattern::Grbg => [1, 0, 2, 1],
+            BayerPattern::Gbrg => [1, 2, 0, 1],
+        };
+        tile[((y & 1) * 2 + (x & 1)) as usize]
+    }
+}
+
+/// The conversion gain, DN per photo-electron: `PerElectron(g)`, or `UnityIso(u)`: g = ISO / u
+/// with the ISO of `camera.exposure` (u is the ISO at which one electron is one DN).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Gain {
+    PerElectron(f64),
+    UnityIso(f64),
+}
 
 /// A raw sensor ready to read out a film.
 #[derive(Clone, Debug, PartialEq)]
@@ -125,162 +160,13 @@ impl RawModel {
 }
 
 /// The pattern's name as the EXR header and the sidecar write it.
-fn pattern_name(p: BayerPattern) -> &'static str {
+pub fn pattern_name(p: BayerPattern) -> &'static str {
     match p {
         BayerPattern::Rggb => "RGGB",
         BayerPattern::Bggr => "BGGR",
         BayerPattern::Grbg => "GRBG",
         BayerPattern::Gbrg => "GBRG",
     }
-}
-
-/// What `build` makes of a `raw` config.
-pub struct RawSetup {
-    /// The model, its `slot` still to be set.
-    pub model: RawModel,
-    /// The three photo-electron responses (R, G, B), appended after the camera's.
-    pub photons: [Response; 3],
-    /// EXR header attributes (`prism:raw.*`).
-    pub header: Vec<(String, String)>,
-}
-
-/// Checks `cfg` and builds the model, the photo-electron responses for the camera's `curves`
-/// and the header attributes. `err(field, message, fix)` makes the error for a field of `raw`.
-pub fn build(
-    cfg: &RawConfig,
-    curves: &[Curve; 3],
-    exposure: Option<ExposureConfig>,
-    range: (f32, f32),
-    err: &dyn Fn(&str, String, &str) -> InputError,
-) -> Result<RawSetup, InputError> {
-    let Some(exp) = exposure else {
-        return Err(err(
-            "",
-            "the raw sensor needs the camera's exposure (shutter time and f-number)".into(),
-            "add camera.exposure, e.g. exposure: (iso: 100, shutter: 0.01, f_number: 4)",
-        ));
-    };
-    let positive = |v: f64, field: &str, what: &str, max: f64| -> Result<(), InputError> {
-        if v.is_finite() && v > 0.0 && v <= max {
-            Ok(())
-        } else {
-            Err(err(
-                field,
-                format!("{field} is {v}; it must be a positive {what} (at most {max:e})"),
-                "configs/README.md lists the raw sensor's fields and typical values",
-            ))
-        }
-    };
-    let non_negative = |v: f64, field: &str, what: &str| -> Result<(), InputError> {
-        if v.is_finite() && v >= 0.0 {
-            Ok(())
-        } else {
-            Err(err(
-                field,
-                format!("{field} is {v}; it must be a non-negative {what}"),
-                "write 0 for none; configs/README.md lists typical values",
-            ))
-        }
-    };
-    positive(cfg.pixel_pitch, "pixel_pitch", "pixel pitch in µm", 1e4)?;
-    positive(
-        cfg.quantum_efficiency,
-        "quantum_efficiency",
-        "quantum efficiency",
-        1.0,
-    )?;
-    positive(cfg.full_well, "full_well", "capacity in electrons", 1e12)?;
-    non_negative(cfg.read_noise, "read_noise", "read noise in e⁻ rms")?;
-    non_negative(cfg.dark_current, "dark_current", "dark current in e⁻/s")?;
-    let gain = match cfg.gain {
-        Gain::PerElectron(g) => {
-            positive(g, "gain", "number of DN per electron", 1e9)?;
-            g
-        }
-        Gain::UnityIso(u) => {
-            positive(u, "gain", "unity-gain ISO", 1e9)?;
-            exp.iso as f64 / u
-        }
-    };
-    if !(1..=32).contains(&cfg.bits) {
-        return Err(err(
-            "bits",
-            format!("bits is {}; the DN are 1 to 32 bits deep", cfg.bits),
-            "write the ADC's bit depth, e.g. bits: 12 or bits: 14",
-        ));
-    }
-    let white = ((1u64 << cfg.bits) - 1) as f64;
-    non_negative(cfg.black_level, "black_level", "number of DN")?;
-    if cfg.black_level >= white {
-        return Err(err(
-            "black_level",
-            format!(
-                "black_level {} leaves no room below the {}-bit white level {white}",
-                cfg.black_level, cfg.bits
-            ),
-            "lower black_level or raise bits",
-        ));
-    }
-    // The curves' common peak ĉ, on a 0.25 nm grid over the visible and NIR and the range.
-    let (lo, hi) = (range.0.min(300.0), range.1.max(1100.0));
-    let steps = ((hi - lo) * 4.0) as usize;
-    let peak = (0..=steps)
-        .map(|k| lo + k as f32 * 0.25)
-        .flat_map(|l| curves.iter().map(move |c| c.eval_one(l)))
-        .fold(0.0f32, f32::max) as f64;
-    if !(peak.is_finite() && peak > 0.0) {
-        return Err(err(
-            "",
-            "the camera's curves are zero everywhere".into(),
-            "give camera curves that respond somewhere in the spectral range",
-        ));
-    }
-    let (t, f_number) = (exp.shutter as f64, exp.f_number as f64);
-    let area = (cfg.pixel_pitch * 1e-6).powi(2);
-    // e⁻ per unit of ∫ L c̄ λ dλ with λ in nm (hence 1e-9), module docs step 1.
-    let scale = t * area * std::f64::consts::PI / (4.0 * f_number * f_number)
-        * (cfg.quantum_efficiency / peak)
-        * 1e-9
-        / H_C;
-    let responses = curves.clone().map(|c| Response {
-        shape: Shape::Photons(c),
-        scale: scale as f32,
-    });
-    let model = RawModel {
-        pattern: cfg.pattern,
-        slot: 0,
-        dark_e: cfg.dark_current * t,
-        full_well: cfg.full_well,
-        read_noise: cfg.read_noise,
-        gain,
-        black: cfg.black_level,
-        white,
-        noise: cfg.noise,
-    };
-    let header = [
-        ("channel", CHANNEL.to_string()),
-        ("pattern", pattern_name(cfg.pattern).to_string()),
-        ("pixelPitch", format!("{:e}", cfg.pixel_pitch)),
-        ("quantumEfficiency", format!("{:e}", cfg.quantum_efficiency)),
-        ("fullWell", format!("{:e}", cfg.full_well)),
-        ("readNoise", format!("{:e}", cfg.read_noise)),
-        ("darkCurrent", format!("{:e}", cfg.dark_current)),
-        ("darkElectrons", format!("{:e}", model.dark_e)),
-        ("gain", format!("{gain:e}")),
-        ("blackLevel", format!("{:e}", cfg.black_level)),
-        ("bits", cfg.bits.to_string()),
-        ("whiteLevel", format!("{white:e}")),
-        ("electronScale", format!("{scale:e}")),
-        ("noise", cfg.noise.to_string()),
-        ("units", "pixelPitch um; fullWell, readNoise (rms), darkElectrons e-; darkCurrent e-/s; gain DN/e-; blackLevel, whiteLevel DN; electronScale e- per W m^-2 sr^-1 nm^-1 x nm^2 (of the integral of L c lambda); noise seeded by the render seed".to_string()),
-    ]
-    .map(|(k, v)| (format!("prism:raw.{k}"), v))
-    .to_vec();
-    Ok(RawSetup {
-        model,
-        photons: responses,
-        header,
-    })
 }
 
 #[cfg(test)]

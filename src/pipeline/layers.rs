@@ -1,0 +1,30 @@
+//! The AOV pass of a loaded job: which layers its `aovs` ask for, over the integrator's
+//! pixel-centre hits (`integrator::aov`). Moved here from the integrator, which knows no job.
+
+use crate::film::{Aov, Film};
+use crate::integrator::albedo;
+use crate::integrator::aov::{first_hits, layers, stderr_layers, uses_hits, Hit};
+use crate::load::Job;
+
+/// Runs the AOV pass: adds the layers `job.aovs` asks for to `film` and returns the
+/// pixel-centre hits the sidecar's boxes come from: `None` when neither a layer nor the
+/// scene's `boxes` needs them (then no ray is traced for them).
+/// `stderr`: the standard errors `render_film` returned (needed when `job.aovs` has `stderr`).
+pub fn add_layers(job: &Job, film: &mut Film, stderr: Option<&[f32]>) -> Option<Vec<Option<Hit>>> {
+    let s = &job.settings;
+    let hits = (job.config.boxes || job.aovs.iter().any(|&a| uses_hits(a)))
+        .then(|| first_hits(&job.scene, s.width, s.height));
+    let none = Vec::new();
+    let h = hits.as_deref().unwrap_or(&none);
+    let (floats, ids) = layers(&job.scene, s, h, &job.aovs, &job.objects.label_ids());
+    film.channels.extend(floats);
+    film.uint_channels.extend(ids);
+    if let (true, Some(se)) = (job.aovs.contains(&Aov::Stderr), stderr) {
+        film.channels.extend(stderr_layers(se, &job.channels));
+    }
+    if job.aovs.contains(&Aov::Albedo) {
+        film.channels
+            .extend(albedo::layers(&job.scene, h, &job.channels.sensor));
+    }
+    hits
+}
