@@ -1,7 +1,8 @@
 //! prism: a spectral path tracer for physically based dataset generation.
 //!
-//! Data flows one way: `config` (RON) → `scene` (render-ready) → `integrator` → `film` →
-//! `output` files.
+//! Modules stand on floors and import only downwards (docs/ARCHITECTURE.md, checked by
+//! tests/layers.rs): base (math, spectrum, film, io) → engine (scene, shapes, BSDFs, emitters,
+//! sensor) → render (integrator) → describe (config) → load → pipeline → dataset → cli.
 
 pub mod accel;
 pub mod bsdf;

@@ -1,5 +1,5 @@
 //! Materials in the scene file (Mitsuba 3's BSDF names and parameters) and their scalar
-//! parameters; `scene::materials` turns them into `bsdf::Material`s.
+//! parameters; `load::materials` turns them into `bsdf::Material`s.
 
 use super::shape::one;
 use super::{IorConfig, SpectrumConfig};

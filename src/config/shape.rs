@@ -74,7 +74,7 @@ pub(super) fn one() -> f32 {
 }
 
 /// `emitter: (radiance: Rgb(18.4, 14.0, 6.8))` on a shape: emits from its front side.
-/// On a triangle mesh the radiance may be a texture over its uv (`scene::emission`):
+/// On a triangle mesh the radiance may be a texture over its uv (`load::emission`):
 /// `emitter: (radiance: Scaled(5, Bitmap(path: "panel.exr", filter: Nearest)))`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

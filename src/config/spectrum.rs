@@ -31,7 +31,7 @@ use std::path::Path;
 /// ```
 ///
 /// Textures are allowed where a material parameter varies over a surface (reflectances), and a
-/// `Bitmap` as a shape's area-emitter radiance (`scene::emission`); other emitters and indices
+/// `Bitmap` as a shape's area-emitter radiance (`load::emission`); other emitters and indices
 /// of refraction take plain spectra.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

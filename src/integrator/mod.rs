@@ -87,12 +87,8 @@ pub fn render_film(
         (16, true) => render_lanes::<16, true>(scene, settings, sensor, progress),
         (n, _) => panic!("{n} wavelengths per path is not supported (config validation lets only {SUPPORTED_LANES:?} through)"),
     };
-    let mut film = channels.develop(settings.width, settings.height, &means, sensor.slots());
-    if let Some(raw) = &sensor.raw {
-        let (w, h, slots) = (settings.width, settings.height, sensor.slots());
-        film.uint_channels
-            .push(raw.mosaic(&means, slots, w, h, settings.seed));
-    }
+    let (w, h, slots) = (settings.width, settings.height, sensor.slots());
+    let film = channels.develop(w, h, &means, slots, settings.seed);
     // Finite samples can still sum past f32's range; such pixels count as invalid too.
     stats.invalid_samples += film.nonfinite_pixels();
     (film, stats, se)

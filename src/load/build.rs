@@ -1,6 +1,7 @@
 //! Config → render-ready scene and settings, with every check a user's mistake can trip
 //! reported against the scene file and the field.
 
+use super::check::check;
 use super::{emitters, geometry, materials, Scene};
 use crate::bsdf::Material;
 use crate::config::{self, SceneConfig};
@@ -53,23 +54,6 @@ pub fn load(path: &Path, edit: impl FnOnce(&mut SceneConfig)) -> Result<Job, Err
 pub fn load_str(text: &str, file: &Path) -> Result<Job, Error> {
     let cfg = config::parse_str(text, file)?;
     Ok(build(cfg, file)?)
-}
-
-pub(super) fn check(
-    cond: bool,
-    file: &Path,
-    field: &str,
-    message: impl Into<String>,
-) -> Result<(), InputError> {
-    if cond {
-        Ok(())
-    } else {
-        Err(InputError::new(file, message).field(field))
-    }
-}
-
-pub(super) fn finite3(v: [f32; 3]) -> bool {
-    v.iter().all(|x| x.is_finite())
 }
 
 /// Builds a job from a parsed config.

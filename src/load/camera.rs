@@ -1,7 +1,7 @@
 //! `camera:` → a `Camera`: the model, its intrinsics (a field of view or OpenCV's K) and lens
 //! distortion, with every check a user's mistake can trip.
 
-use super::build::check;
+use super::check::check;
 use crate::camera::{Camera, Distortion, Intrinsics, Orthographic, Pinhole, ThinLens};
 use crate::config::{CameraConfig, CameraModel};
 use crate::error::InputError;

@@ -1,6 +1,6 @@
 //! Emitters that are not attached to a shape, from the config, with their parameters checked.
 
-use super::build::{check, finite3};
+use super::check::{check, finite3};
 use super::geometry::transform;
 use crate::config::{spectrum_ctx, EmitterConfig, Role, SpectrumConfig};
 use crate::emitter::Emitter;

@@ -1,6 +1,6 @@
 //! Shapes from the config: transforms composed, meshes loaded, spheres checked.
 
-use super::build::{check, finite3};
+use super::check::{check, finite3};
 use crate::config::{ShapeConfig, ShapeKind, TransformOp};
 use crate::error::InputError;
 use crate::math::Transform;
@@ -136,7 +136,7 @@ pub fn shape(
             })?;
             Shape::Mesh(mesh.transformed(&t, sc.flip_normals))
         }
-        ShapeKind::Gltf { .. } => unreachable!("glTF shapes are expanded by scene::gltf"),
+        ShapeKind::Gltf { .. } => unreachable!("glTF shapes are expanded by load::gltf"),
     };
     if let Shape::Mesh(m) = &shape {
         let degenerate = (0..m.indices.len())

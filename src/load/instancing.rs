@@ -1,12 +1,12 @@
 //! Which shapes become instances (`shape::Instance`, traced by `accel::instances`) rather than
 //! world-space copies: a RON `Mesh` file named by two or more shapes, a glTF mesh under two or
-//! more nodes (`scene::gltf`; a normal-mapped one with its tangents in mesh space, an emissive
+//! more nodes (`load::gltf`; a normal-mapped one with its tangents in mesh space, an emissive
 //! one sampled as an area light through its transform). Each such mesh is read once and shared.
 //! A mesh used once, an emitting RON shape, the `Embree` and `BruteForce` backends and
 //! `flatten: true` keep the world-space copy, so scenes without repeated meshes build and
 //! render exactly as before.
 
-use super::build::check;
+use super::check::check;
 use crate::accel::AccelKind;
 use crate::config::{SceneConfig, ShapeConfig, ShapeKind};
 use crate::error::InputError;

@@ -5,6 +5,7 @@
 
 mod build;
 mod camera;
+mod check;
 mod emission;
 mod emitters;
 pub mod extent;

@@ -1,4 +1,4 @@
-//! `Principled` materials from the config (RON); glTF materials are built in `scene::gltf`.
+//! `Principled` materials from the config (RON); glTF materials are built in `load::gltf`.
 
 use super::materials::float;
 use crate::bsdf::{Material, PrincipledParams};

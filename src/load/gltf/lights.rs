@@ -169,7 +169,7 @@ pub fn scene_config(path: &Path) -> Result<(SceneConfig, Vec<String>), InputErro
     scene_for(&super::open(path)?)
 }
 
-/// `scene_config` of a model already read (`scene::load` hands it on to the build with
+/// `scene_config` of a model already read (`load::load` hands it on to the build with
 /// `with_model`, so the file is read once).
 pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), InputError> {
     let path = model.path.as_path();

@@ -339,7 +339,7 @@ pub fn is_gltf(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
 }
 
-/// Appends an expanded glTF shape to the scene being built (`scene::build`).
+/// Appends an expanded glTF shape to the scene being built (`load::build`).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn add_shapes(
     ex: Expanded,
@@ -376,7 +376,7 @@ pub(super) fn add_shapes(
 
 #[cfg(test)]
 mod tests {
-    /// `prism render model.gltf` (`scene::load` of a glTF file) reads the file once: the model
+    /// `prism render model.gltf` (`load::load` of a glTF file) reads the file once: the model
     /// read for its config is the one the build uses. A RON scene that includes it reads it
     /// once too.
     #[test]
