@@ -140,8 +140,9 @@ def test_threads_change_no_pixel_and_are_reported(prism_bin, tmp_path):
 
 def render_args_fields() -> list[str]:
     """The fields of `RenderArgs` in src/cli.rs, as flags (the positional `scene` left out); a
-    `#[command(flatten)]` field stands for the fields of its struct (in src/cli.rs or src/cli/)."""
-    files = [ROOT / "src/cli.rs", *sorted((ROOT / "src/cli").glob("*.rs"))]
+    `#[command(flatten)]` field stands for the fields of its struct (in src/cli.rs, src/cli/ or
+    src/pipeline/workers.rs, where the worker flags shared with `prism dataset` live)."""
+    files = [ROOT / "src/cli.rs", *sorted((ROOT / "src/cli").glob("*.rs")), ROOT / "src/pipeline/workers.rs"]
     src = "\n".join(f.read_text() for f in files)
 
     def fields(struct: str) -> list[str]:
