@@ -23,8 +23,14 @@ pub fn hashes(base: &Base) -> Result<BTreeMap<String, String>, Error> {
     Ok(out)
 }
 
-/// `p` made absolute and lexically normal (no `.`, `..` folded into its parent).
-fn normal(p: &Path) -> PathBuf {
+/// `p` made absolute and lexically normal (no `.`, `..` folded into its parent); the empty
+/// path (the folder of a bare file name, `Path::new("a.ron").parent()`) is the current one.
+pub fn normal(p: &Path) -> PathBuf {
+    let p = if p.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        p
+    };
     let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
     let mut out = PathBuf::new();
     for c in abs.components() {
@@ -40,7 +46,7 @@ fn normal(p: &Path) -> PathBuf {
 }
 
 /// `p` relative to `dir` (both normal), with `..` where `p` lies outside `dir`, `/`-separated.
-fn relative(p: &Path, dir: &Path) -> String {
+pub fn relative(p: &Path, dir: &Path) -> String {
     let (a, b): (Vec<_>, Vec<_>) = (p.components().collect(), dir.components().collect());
     let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
     if common == 0 {
@@ -73,5 +79,9 @@ mod tests {
         for (p, want) in cases {
             assert_eq!(relative(&normal(Path::new(p)), &dir), want, "{p}");
         }
+        // A bare config name's folder is the current one, not "" (which made every key an
+        // absolute path, so a resume from elsewhere saw another dataset).
+        let here = std::env::current_dir().unwrap();
+        assert_eq!(normal(Path::new("a.ron").parent().unwrap()), normal(&here));
     }
 }

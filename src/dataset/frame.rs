@@ -7,7 +7,7 @@ use crate::config::{SceneConfig, ShapeKind};
 use crate::error::Error;
 use crate::integrator;
 use crate::output;
-use serde_json::Value;
+use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -78,6 +78,14 @@ impl GeometryCache {
                 job.settings = new.settings;
                 job.channels = new.channels;
                 job.config = new.config;
+                job.aovs = new.aovs;
+                // Names, labels and materials are this frame's; where the objects are, the
+                // cached geometry's (the stand-in spheres are nowhere).
+                let mut objects = new.objects;
+                for (n, o) in objects.list.iter_mut().zip(&job.objects.list) {
+                    (n.to_world, n.bounds) = (o.to_world, o.bounds);
+                }
+                job.objects = objects;
             }
             _ => {
                 self.job = Some(crate::scene::build(cfg, file)?);
@@ -115,20 +123,23 @@ pub fn render_frame(
     let job = cache.job(scene, scene_file)?;
     let s = &job.settings;
     let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
-    let (mut film, stats, se) =
+    let (mut film, stats, mut se) =
         integrator::render_film(&job.scene, s, &job.channels, stderr, &|_| {});
     // The sensor variation's exposure: before the AOVs join, the film holds the sensor's
-    // channels alone (one multiply per pixel and channel, none per sample).
+    // channels alone (one multiply per pixel and channel, none per sample); their standard
+    // errors scale with them, so `stderr` is that of the values in the file.
+    let scaled: Vec<String> = film.channels.iter().map(|c| c.name.clone()).collect();
     if exposure_scale != 1.0 {
         for c in &mut film.channels {
             c.data.iter_mut().for_each(|v| *v *= exposure_scale);
         }
+        se.iter_mut().for_each(|v| *v *= exposure_scale);
     }
     // The scene's AOV layers, and the pixel-centre hits the sidecar's boxes come from (when
     // a layer or `boxes` asked for them).
     let hits = integrator::aov::add_layers(job, &mut film, Some(&se));
     let exr = stem.with_extension("exr");
-    let extra = vec![
+    let mut extra = vec![
         ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
         ("prism:spp".into(), s.spp.to_string()),
         ("prism:seed".into(), s.seed.to_string()),
@@ -137,6 +148,25 @@ pub fn render_frame(
             stats.invalid_samples.to_string(),
         ),
     ];
+    let exposure = (exposure_scale != 1.0).then(|| {
+        let stderr = job.aovs.contains(&crate::film::Aov::Stderr);
+        json!({
+            "stops": exposure_scale.log2(),
+            "scale": exposure_scale,
+            "channels": scaled.iter().cloned().chain(stderr.then(|| "stderr.*".to_string())).collect::<Vec<_>>(),
+            "meaning": "each listed channel is the scene's value (in the units above) times `scale`, as if every light were `scale` times as bright; the AOVs are not scaled",
+        })
+    });
+    if let Some(e) = &exposure {
+        extra.push((
+            "prism:datasetExposureScale".into(),
+            exposure_scale.to_string(),
+        ));
+        extra.push((
+            "prism:datasetExposureChannels".into(),
+            e["channels"].to_string(),
+        ));
+    }
     output::exr::write(&film, &exr, &extra)?;
     let mut files = vec![exr.clone()];
     if let Some(exposure) = preview {
@@ -156,10 +186,23 @@ pub fn render_frame(
         t.elapsed().as_secs_f64(),
     );
     sidecar["frame"] = params.clone();
+    if let Some(e) = exposure {
+        sidecar["sensor"]["exposure"] = e;
+    }
     // A frame's files depend on (config, frame index) alone; its render time is in the
     // manifest.
     if let Some(r) = sidecar["render"].as_object_mut() {
         r.remove("seconds");
+        // Paths relative to the base scene's folder, not to where the run started.
+        let dir = super::assets::normal(scene_file.parent().unwrap_or(Path::new(".")));
+        let rel = |p: &Value| match p.as_str() {
+            Some(p) => super::assets::relative(&super::assets::normal(Path::new(p)), &dir).into(),
+            None => p.clone(),
+        };
+        r["scene_file"] = rel(&r["scene_file"]);
+        for f in r["files"].as_array_mut().into_iter().flatten() {
+            f["path"] = rel(&f["path"]);
+        }
     }
     let mut text = serde_json::to_string_pretty(&sidecar)
         .map_err(|e| Error::Other(format!("frame parameters: {e}")))?;
