@@ -62,6 +62,12 @@ pub fn objects(
     material_names: Vec<String>,
 ) -> Result<Objects, InputError> {
     let labels = label_table(cfg, file)?;
+    // A given table need not be sorted: ids by lookup, not by binary search.
+    let label_index: BTreeMap<&str, u32> = labels
+        .iter()
+        .enumerate()
+        .map(|(k, l)| (l.as_str(), k as u32))
+        .collect();
     // Names the scene gives first: a repeat among them is the user's to fix.
     let mut seen: BTreeMap<String, usize> = BTreeMap::new();
     for (i, sc) in cfg.shapes.iter().enumerate() {
@@ -154,7 +160,7 @@ pub fn objects(
             label_id: sc
                 .label
                 .as_ref()
-                .map_or(0, |l| labels.binary_search(l).map_or(0, |k| k as u32 + 1)),
+                .map_or(0, |l| label_index.get(l.as_str()).map_or(0, |&k| k + 1)),
             material: material_names[m as usize].clone(),
             material_id: m + 1,
             to_world,
@@ -289,5 +295,59 @@ mod tests {
         // The second node is translated by +1 in x: its world box shows it.
         assert!((o.list[1].bounds.0.x - o.list[0].bounds.0.x - 1.0).abs() < 1e-6);
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Given ids and a class table: a glTF shape's parts count up from its `id`, labels take
+    /// their place in `labels`; a repeated id, a label missing from `labels` or listed twice
+    /// are refused naming the field.
+    #[test]
+    fn given_ids_and_labels_are_used_and_checked() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let simple = root.join("tests/data/gltf/SimpleMeshes.gltf");
+        let scene = |id: u32, labels: &str, ball: &str| {
+            format!(
+                r#"(film: (width: 8, height: 6), labels: [{labels}],
+                shapes: [
+                    (shape: Gltf(path: "{}"), id: 10, label: "toy"),
+                    (shape: Sphere(radius: 0.1), name: "ball", id: {id}, label: "{ball}"),
+                ],
+                emitters: [Constant(radiance: Named("D65"))])"#,
+                simple.display()
+            )
+        };
+        let file = root.join("scenes/given_ids.ron");
+        let job = crate::scene::load_str(&scene(3, "\"zebra\", \"toy\"", "zebra"), &file).unwrap();
+        let ids: Vec<(u32, u32)> = job
+            .objects
+            .list
+            .iter()
+            .map(|o| (o.instance_id, o.label_id))
+            .collect();
+        assert_eq!(ids, [(10, 2), (11, 2), (3, 1)]);
+        assert_eq!(job.objects.labels, ["zebra", "toy"]);
+        let cases = [
+            (
+                scene(11, "\"zebra\", \"toy\"", "zebra"),
+                "shapes[1].id",
+                "instance id 11 is also the id of",
+            ),
+            (
+                scene(3, "\"toy\"", "zebra"),
+                "shapes[1].label",
+                "\"zebra\" is not in `labels`",
+            ),
+            (
+                scene(3, "\"toy\", \"zebra\", \"toy\"", "zebra"),
+                "labels[2]",
+                "listed twice",
+            ),
+        ];
+        for (text, field, needle) in cases {
+            let Err(e) = crate::scene::load_str(&text, &file) else {
+                panic!("{field}: accepted")
+            };
+            let msg = e.to_string();
+            assert!(msg.contains(field) && msg.contains(needle), "{msg}");
+        }
     }
 }
