@@ -186,6 +186,15 @@ fn shards_are_disjoint_complete_and_their_union_is_one_run() {
             .unwrap();
         ok(&o);
     }
+    // Temporaries a killed run left (its process gone) are removed at start; a live
+    // process's are not.
+    let mut child = Command::new("true").spawn().unwrap();
+    let dead = child.id();
+    child.wait().unwrap();
+    let stale = shared.join(format!("frames/.000001.exr.{dead}.tmp.exr"));
+    let live = shared.join("frames/.000002.exr.1.tmp.exr");
+    std::fs::write(&stale, b"partial").unwrap();
+    std::fs::write(&live, b"partial").unwrap();
     let o = prism()
         .args(["dataset", "--quiet", "--num-shards", "2", "-o"])
         .arg(&shared)
@@ -200,7 +209,16 @@ fn shards_are_disjoint_complete_and_their_union_is_one_run() {
     let mut m = manifest(&shared);
     m.sort_unstable();
     assert_eq!(m, (0..8).collect::<Vec<_>>());
+    assert!(!stale.exists(), "a dead run's temporary was left");
+    assert!(live.exists(), "a live process's temporary was removed");
+    std::fs::remove_file(&live).unwrap();
     assert!(frames(&shared) == full);
+    // The last shard's contact sheet shows every listed frame, as the single run's does.
+    let sheet = |d: &Path| std::fs::read(d.join("contact_sheet.png")).unwrap();
+    assert!(
+        sheet(&shared) == sheet(&full_run()),
+        "the sheet lacks other shards' frames"
+    );
 }
 
 /// A small deterministic generator for the kill moments.
@@ -675,4 +693,433 @@ fn a_changed_texture_refuses_the_resume_naming_the_file() {
     ok(&dataset(&cfg, &out, &["--force", "--frames", "0"]));
     assert_eq!(manifest(&out), vec![0]);
     assert!(frames(&out)["000000.exr"] != before["000000.exr"]);
+}
+
+/// tabletop() with class labels and the id layers: the ball and box are "toy", the marble
+/// "marble", the bead "bead", the table "furniture" (sorted: bead 1, furniture 2, marble 3,
+/// toy 4 while every shape shows).
+fn labelled_tabletop() -> String {
+    tabletop()
+        .replace(
+            "    integrator: (max_depth: 6),\n",
+            "    integrator: (max_depth: 6),\n    aovs: [\"instance\", \"label\", \"material\"],\n",
+        )
+        .replace(
+            "(name: \"table\",",
+            "(name: \"table\", label: \"furniture\",",
+        )
+        .replace("(name: \"ball\",", "(name: \"ball\", label: \"toy\",")
+        .replace("(name: \"box\",", "(name: \"box\", label: \"toy\",")
+        .replace(
+            "(name: \"marble\",",
+            "(name: \"marble\", label: \"marble\",",
+        )
+        .replace("(name: \"bead\",", "(name: \"bead\", label: \"bead\",")
+}
+
+fn json_file(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+/// Every frame of `out` (8 frames, config `cfg`) against `prism render` of its exported scene:
+/// the EXR's pixels bit for bit (ids included) and the JSON's `labels`, `materials` and
+/// `objects` (names, ids, labels, materials, transforms) equal; and every id a frame uses is the
+/// one `dataset.json`'s tables give its class and instance.
+fn check_against_exports(dir: &Path, cfg: &Path, out: &Path) {
+    let ds = json_file(&out.join("dataset.json"));
+    let classes: BTreeMap<String, u64> = ds["classes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            (
+                c["name"].as_str().unwrap().into(),
+                c["id"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    let names: Vec<&str> = classes.keys().map(|s| s.as_str()).collect();
+    assert_eq!(names, ["bead", "furniture", "marble", "toy"]);
+    let instances: BTreeMap<String, u64> = ds["instances"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            (
+                c["name"].as_str().unwrap().into(),
+                c["id"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    let exp = dir.join("exported");
+    for i in 0..8u32 {
+        let stem = out.join(format!("frames/{i:06}"));
+        let frame = json_file(&stem.with_extension("json"));
+        ok(&dataset(cfg, &exp, &["--export-frame", &i.to_string()]));
+        let exr = dir.join(format!("render{i}.exr"));
+        let o = prism()
+            .current_dir(std::env::temp_dir())
+            .arg("render")
+            .arg(exp.join(format!("frames/{i:06}.ron")))
+            .arg("-o")
+            .arg(&exr)
+            .arg("--quiet")
+            .output()
+            .unwrap();
+        ok(&o);
+        let fresh = json_file(&exr.with_extension("json"));
+        for key in ["labels", "materials", "objects"] {
+            assert_eq!(frame[key], fresh[key], "frame {i}: `{key}` differs");
+        }
+        let (want, got) = (exr_pixels(&stem.with_extension("exr")), exr_pixels(&exr));
+        assert_eq!(
+            want.keys().collect::<Vec<_>>(),
+            got.keys().collect::<Vec<_>>()
+        );
+        for (k, v) in &want {
+            assert!(got[k] == *v, "frame {i}: channel {k} differs");
+        }
+        // The frame's ids are the dataset's, and a hidden shape is not listed.
+        let shown = &frame["frame"]["shown"][0];
+        for o in frame["objects"].as_array().unwrap() {
+            let name = o["name"].as_str().unwrap();
+            assert_eq!(
+                o["instance_id"].as_u64(),
+                Some(instances[name]),
+                "frame {i}: {name}"
+            );
+            if let Some(l) = o["label"].as_str() {
+                assert_eq!(
+                    o["label_id"].as_u64(),
+                    Some(classes[l]),
+                    "frame {i}: {name}"
+                );
+            }
+            if ["box", "marble", "bead"].contains(&name) && shown.is_array() {
+                assert!(
+                    shown.as_array().unwrap().iter().any(|s| s == name),
+                    "frame {i}: {name} is hidden"
+                );
+            }
+        }
+        let listed = frame["labels"].as_array().unwrap();
+        assert_eq!(
+            listed,
+            ds["classes"].as_array().unwrap(),
+            "frame {i}: class table"
+        );
+        // Every id in the layers names a listed object or class.
+        for (layer, ids) in [("instance.ID", &instances), ("label.ID", &classes)] {
+            for v in &want[layer] {
+                assert!(
+                    *v == 0.0 || ids.values().any(|&x| x as f32 == *v),
+                    "frame {i}: {layer} {v}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn ids_are_fixed_per_dataset_and_every_frame_matches_a_fresh_render_of_its_export() {
+    let dir = workdir("ids");
+    std::fs::write(dir.join("base.ron"), labelled_tabletop()).unwrap();
+    // Subsets hide some of box, marble and bead in most frames; placement moves the rest.
+    let cfg = config_on_base(&dir, |t| t);
+    let out = dir.join("out");
+    ok(&dataset(&cfg, &out, &[]));
+    let hidden = (0..8)
+        .filter(|i| {
+            let f = json_file(&out.join(format!("frames/{i:06}.json")));
+            f["frame"]["shown"][0].as_array().unwrap().len() < 3
+        })
+        .count();
+    assert!(hidden >= 4, "only {hidden} frames hide a shape");
+    check_against_exports(&dir, &cfg, &out);
+}
+
+#[test]
+fn frames_that_reuse_geometry_name_their_own_materials() {
+    let dir = workdir("reuse-ids");
+    std::fs::write(dir.join("base.ron"), labelled_tabletop()).unwrap();
+    // No object variations: every frame keeps the geometry, and the box's material is swapped.
+    let cfg = config_on_base(&dir, |t| {
+        let a = t.find("    objects: (").unwrap();
+        let b = a + t[a..].find("\n    ),\n").unwrap() + "\n    ),\n".len();
+        format!("{}{}", &t[..a], &t[b..])
+    });
+    let out = dir.join("out");
+    let o = dataset(&cfg, &out, &[]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("geometry built 1 time(s)"), "{err}");
+    let mut swapped = std::collections::BTreeSet::new();
+    for i in 0..8 {
+        let f = json_file(&out.join(format!("frames/{i:06}.json")));
+        let m = f["frame"]["swaps"][0]["material"]
+            .as_str()
+            .unwrap()
+            .to_string();
+        let the_box = f["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|o| o["name"] == "box")
+            .unwrap();
+        assert_eq!(the_box["material"], m.as_str(), "frame {i}");
+        swapped.insert(m);
+    }
+    assert!(swapped.len() >= 2, "the box kept {swapped:?}");
+    check_against_exports(&dir, &cfg, &out);
+}
+
+/// The custom attributes of an EXR's first header, as text.
+fn exr_attributes(p: &Path) -> BTreeMap<String, String> {
+    let meta = exr::meta::MetaData::read_from_file(p, false).unwrap();
+    meta.headers[0]
+        .own_attributes
+        .other
+        .iter()
+        .map(|(k, v)| {
+            let v = match v {
+                exr::meta::attribute::AttributeValue::Text(t) => t.to_string(),
+                v => format!("{v:?}"),
+            };
+            (k.to_string(), v)
+        })
+        .collect()
+}
+
+/// The dataset exposure says what it did: the EXR header and the JSON's `sensor.exposure` give
+/// its scale and the channels it scaled, and `stderr.*` scales with them (the standard error
+/// of the values in the file): the same frames with and without `exposure: (e, e)` draw the
+/// same scene and seed, so the ratio is 2^e up to one f32 multiply (tolerance 1e-6 relative,
+/// as in `exposure_scales_the_sensor_channels_by_two_to_the_stops`).
+#[test]
+fn exposure_is_recorded_and_scales_the_standard_errors() {
+    let dir = workdir("exposure-meta");
+    let base = tabletop().replace(
+        "    integrator: (max_depth: 6),\n",
+        "    integrator: (max_depth: 6),\n    aovs: [\"stderr\", \"depth\"],\n",
+    );
+    std::fs::write(dir.join("base.ron"), base).unwrap();
+    let e = -0.75f64;
+    let k = 2f64.powf(e);
+    let plain = config_on_base(&dir, |t| t);
+    let (a, b) = (dir.join("plain"), dir.join("exposed"));
+    ok(&dataset(&plain, &a, &["--frames", "0..2"]));
+    let sub = dir.join("sub");
+    std::fs::create_dir_all(&sub).unwrap();
+    let exposed = config_on_base(&sub, |t| {
+        t.replace(
+            "seed: 1,",
+            &format!("seed: 1,\n    sensor: (exposure: ({e}, {e})),"),
+        )
+    });
+    std::fs::copy(dir.join("base.ron"), sub.join("base.ron")).unwrap();
+    ok(&dataset(&exposed, &b, &["--frames", "0..2"]));
+    for i in 0..2 {
+        let stem = format!("frames/{i:06}");
+        let (ja, jb) = (
+            json_file(&a.join(&stem).with_extension("json")),
+            json_file(&b.join(&stem).with_extension("json")),
+        );
+        assert!(ja["sensor"]["exposure"].is_null(), "frame {i}");
+        let x = &jb["sensor"]["exposure"];
+        assert!(
+            (x["scale"].as_f64().unwrap() - k).abs() < 1e-7,
+            "frame {i}: {x}"
+        );
+        assert!(
+            (x["stops"].as_f64().unwrap() - e).abs() < 1e-6,
+            "frame {i}: {x}"
+        );
+        let listed: Vec<&str> = x["channels"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_str().unwrap())
+            .collect();
+        assert!(
+            listed.contains(&"R") && listed.contains(&"stderr.*"),
+            "{listed:?}"
+        );
+        assert!(!listed.iter().any(|c| c.starts_with("depth")), "{listed:?}");
+        let h = exr_attributes(&b.join(&stem).with_extension("exr"));
+        let scale: f64 = h["prism:datasetExposureScale"].parse().unwrap();
+        assert!((scale - k).abs() < 1e-7, "frame {i}: header {scale}");
+        assert!(!exr_attributes(&a.join(&stem).with_extension("exr"))
+            .contains_key("prism:datasetExposureScale"));
+        let (pa, pb) = (
+            exr_pixels(&a.join(&stem).with_extension("exr")),
+            exr_pixels(&b.join(&stem).with_extension("exr")),
+        );
+        let mut checked = 0;
+        for (name, va) in pa.iter().filter(|(n, _)| n.starts_with("stderr.")) {
+            for (x, y) in va.iter().zip(&pb[name]) {
+                let want = *x as f64 * k;
+                assert!(
+                    (*y as f64 - want).abs() <= 1e-6 * want.abs(),
+                    "frame {i} {name}: {y} vs {want}"
+                );
+            }
+            checked += 1;
+        }
+        assert!(
+            checked >= 1,
+            "frame {i}: no stderr channel in {:?}",
+            pa.keys()
+        );
+    }
+}
+
+/// A dataset started with a bare config name inside its folder and the same dataset run from
+/// elsewhere with absolute paths write byte-identical `dataset.json` and frames (paths in them
+/// are relative to the config or the base scene), and the second resumes the first's folder.
+#[test]
+fn a_dataset_is_the_same_from_any_working_directory() {
+    let dir = workdir("cwd");
+    let ds = dir.join("ds");
+    std::fs::create_dir_all(&ds).unwrap();
+    std::fs::write(ds.join("base.ron"), labelled_tabletop()).unwrap();
+    let cfg = config_on_base(&ds, |t| t);
+    let text = std::fs::read_to_string(&cfg)
+        .unwrap()
+        .replace(&format!("{:?}", ds.join("base.ron")), "\"base.ron\"");
+    std::fs::write(&cfg, text).unwrap();
+    let run = |cwd: &Path, cfg: &Path, out: &Path, frames: &str| {
+        prism()
+            .current_dir(cwd)
+            .arg("dataset")
+            .arg(cfg)
+            .arg("-o")
+            .arg(out)
+            .args(["--quiet", "--frames", frames])
+            .env_remove("SLURM_ARRAY_TASK_ID")
+            .env_remove("SLURM_ARRAY_TASK_COUNT")
+            .env_remove("JOB_COMPLETION_INDEX")
+            .output()
+            .unwrap()
+    };
+    ok(&run(
+        &ds,
+        Path::new("dataset.ron"),
+        Path::new("out"),
+        "0..3",
+    ));
+    let other = dir.join("out2");
+    ok(&run(&std::env::temp_dir(), &cfg, &other, "0..3"));
+    let here = ds.join("out");
+    assert!(
+        std::fs::read(here.join("dataset.json")).unwrap()
+            == std::fs::read(other.join("dataset.json")).unwrap(),
+        "dataset.json depends on the working directory"
+    );
+    let (a, b) = (frames(&here), frames(&other));
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    assert_eq!(a.len(), 9);
+    for (name, bytes) in &a {
+        assert!(b[name] == *bytes, "{name} depends on the working directory");
+    }
+    // Resuming the bare-name run from elsewhere: nothing to redo, nothing refused.
+    let o = run(&std::env::temp_dir(), &cfg, &here, "0..4");
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("1 rendered, 3 skipped"), "{err}");
+}
+
+/// A dataset rendered to 1000 nm under an RGB sky (radiance RGB × D65, which ends at 830 nm)
+/// says so at `--check`, as `prism render` of its base scene does, once, naming the map; the
+/// same warning for an envmap that only the variation's `files` list names.
+#[test]
+fn check_reports_what_prism_render_warns_about_once() {
+    let dir = workdir("warn");
+    let base = tabletop().replace(
+        "    integrator: (max_depth: 6),\n",
+        "    integrator: (max_depth: 6),\n    spectral: (range: (400, 1000)),\n",
+    );
+    std::fs::write(dir.join("base.ron"), &base).unwrap();
+    let o = prism()
+        .arg("render")
+        .arg(dir.join("base.ron"))
+        .args(["-o"])
+        .arg(dir.join("r.exr"))
+        .args(["--spp", "1", "--quiet"])
+        .output()
+        .unwrap();
+    ok(&o);
+    let render = String::from_utf8_lossy(&o.stderr);
+    assert!(render.contains("830 nm only"), "{render}");
+    // The variation's sky is a copy under another name: its warning names that file.
+    std::fs::copy(
+        root().join("scenes/textures/sky.exr"),
+        dir.join("other_sky.exr"),
+    )
+    .unwrap();
+    let cfg = config_on_base(&dir, |t| {
+        t.replace(
+            &format!("[{:?}]", root().join("scenes/textures/sky.exr")),
+            "[\"other_sky.exr\"]",
+        )
+    });
+    let o = dataset(&cfg, &dir.join("out"), &["--check"]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("830 nm only")).collect();
+    assert!(lines.iter().any(|l| !l.contains("envmap.files")), "{err}");
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("envmap.files[0] `other_sky.exr`")),
+        "{err}"
+    );
+    let mut unique = lines.clone();
+    unique.dedup();
+    assert_eq!(unique.len(), lines.len(), "a warning repeated: {err}");
+}
+
+/// `outputs.aovs` gives every frame those layers (the base scene asks for none), and `splits`
+/// are listed in `dataset.json`; an unknown AOV, overlapping splits or a split past the last
+/// frame are refused before any frame renders.
+#[test]
+fn outputs_aovs_and_splits_are_the_datasets() {
+    let dir = workdir("aovs");
+    let with = |splits: &str, aovs: &str| {
+        let new = format!("splits: {{{splits}}},\n    outputs: (aovs: [{aovs}], preview: true,");
+        move |t: String| t.replace("outputs: (preview: true,", &new)
+    };
+    let cfg = config(
+        &dir,
+        with(
+            "\"train\": (0, 6), \"test\": (6, 8)",
+            "\"depth\", \"label\"",
+        ),
+    );
+    let out = dir.join("out");
+    ok(&dataset(&cfg, &out, &["--frames", "0..1"]));
+    let px = exr_pixels(&out.join("frames/000000.exr"));
+    assert!(
+        px.contains_key("depth.Z") && px.contains_key("label.ID"),
+        "{:?}",
+        px.keys()
+    );
+    let ds = json_file(&out.join("dataset.json"));
+    assert_eq!(ds["splits"]["train"], serde_json::json!([0, 6]));
+    assert_eq!(ds["splits"]["test"], serde_json::json!([6, 8]));
+    let cases = [
+        (
+            "\"train\": (0, 6), \"test\": (5, 8)",
+            "\"depth\"",
+            "overlaps split",
+        ),
+        ("\"test\": (6, 9)", "\"depth\"", "within 0..8"),
+        ("\"test\": (6, 8)", "\"dpeth\"", "unknown AOV \"dpeth\""),
+    ];
+    for (k, (splits, aovs, needle)) in cases.into_iter().enumerate() {
+        let bad = workdir(&format!("aovs-bad{k}"));
+        let cfg = config(&bad, with(splits, aovs));
+        let o = dataset(&cfg, &bad.join("out"), &[]);
+        refused(&o, &[needle]);
+        assert!(frames(&bad.join("out")).is_empty(), "case {k} rendered");
+    }
 }

@@ -79,6 +79,11 @@ pub struct SceneConfig {
     /// the pixel-centre rays they come from: `boxes: true` (`prism render --boxes`). Default
     /// false: they are written whenever a geometry or id AOV runs, and otherwise cost nothing.
     pub boxes: bool,
+    /// The class table: label `labels[i]` has id i + 1 (`label.ID`, the sidecar's `labels`).
+    /// Default: the shapes' distinct labels, sorted. `prism dataset` sets it from the base
+    /// scene, so a class keeps its id in frames where some of its shapes are hidden.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub labels: Vec<String>,
 }
 
 /// `camera: (fov: 39.3077, fov_axis: Smaller, near_clip: 0.001, to_world: [LookAt(...)])`

@@ -26,6 +26,11 @@ pub struct ShapeConfig {
     /// A class label (the `label` AOV's id; shapes may share one).
     #[serde(default)]
     pub label: Option<String>,
+    /// The instance id (`instance.ID`, the sidecar's `instance_id`); a glTF shape's parts get
+    /// `id`, `id + 1`, …. Default: 1 + the index of the built shape. `prism dataset` sets it
+    /// from the base scene, so an object keeps its id in frames where others are hidden.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<u32>,
 }
 
 /// The geometry of a shape, before `to_world`.

@@ -5,8 +5,9 @@
 
 use super::base::Base;
 use crate::error::Error;
+use crate::io::paths::{normal, relative};
 use std::collections::BTreeMap;
-use std::path::{Component, Path, PathBuf};
+use std::path::Path;
 
 /// `{path: sha256}` of `base.inputs`, each path relative to the dataset config's folder (so the
 /// key does not depend on the directory prism runs in).
@@ -21,37 +22,6 @@ pub fn hashes(base: &Base) -> Result<BTreeMap<String, String>, Error> {
         }
     }
     Ok(out)
-}
-
-/// `p` made absolute and lexically normal (no `.`, `..` folded into its parent).
-fn normal(p: &Path) -> PathBuf {
-    let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
-    let mut out = PathBuf::new();
-    for c in abs.components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir => {
-                out.pop();
-            }
-            c => out.push(c),
-        }
-    }
-    out
-}
-
-/// `p` relative to `dir` (both normal), with `..` where `p` lies outside `dir`, `/`-separated.
-fn relative(p: &Path, dir: &Path) -> String {
-    let (a, b): (Vec<_>, Vec<_>) = (p.components().collect(), dir.components().collect());
-    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
-    if common == 0 {
-        // Another drive (Windows): nothing to be relative to.
-        return p.to_string_lossy().replace('\\', "/");
-    }
-    let up = std::iter::repeat_n("..".to_string(), b.len() - common);
-    let down = a[common..]
-        .iter()
-        .map(|c| c.as_os_str().to_string_lossy().into_owned());
-    up.chain(down).collect::<Vec<_>>().join("/")
 }
 
 #[cfg(test)]
@@ -73,5 +43,9 @@ mod tests {
         for (p, want) in cases {
             assert_eq!(relative(&normal(Path::new(p)), &dir), want, "{p}");
         }
+        // A bare config name's folder is the current one, not "" (which made every key an
+        // absolute path, so a resume from elsewhere saw another dataset).
+        let here = std::env::current_dir().unwrap();
+        assert_eq!(normal(Path::new("a.ron").parent().unwrap()), normal(&here));
     }
 }

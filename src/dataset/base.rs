@@ -28,6 +28,15 @@ pub struct Base {
     /// Every other file the dataset reads (the base scene's meshes, textures, spectra and
     /// envmap; the variations' envmaps and sensor files), whose contents `dataset.json` hashes.
     pub inputs: Vec<PathBuf>,
+    /// The dataset's fixed ids: each base shape's instance id (its first part's; None if it
+    /// builds nothing), and the class table (label i has id i + 1).
+    pub ids: Vec<Option<u32>>,
+    pub labels: Vec<String>,
+    /// The base scene's objects, for `dataset.json`'s tables.
+    pub objects: crate::load::Objects,
+    /// What `prism render` would warn about in the base scene and in each variation's envmap
+    /// and sensor files (spectra ending inside the render range, ...), each once.
+    pub warnings: Vec<String>,
 }
 
 /// Where a light variation points.
@@ -55,14 +64,37 @@ impl Base {
             .hint("give the scene file's path relative to the dataset config")
             .into());
         }
+        // `outputs.aovs` names AOVs the scene build then makes for every frame.
+        for (i, n) in config.outputs.aovs.iter().flatten().enumerate() {
+            if crate::film::Aov::parse(n.trim()).is_none() {
+                return Err(InputError::new(file, format!("unknown AOV \"{n}\""))
+                    .field(format!("outputs.aovs[{i}]"))
+                    .hint(format!("the AOVs are: {}", crate::film::Aov::names()))
+                    .into());
+            }
+        }
         // The files the load reads (meshes, textures, spectra, the envmap), for `dataset.json`.
         let (loaded, read) = crate::io::inputs::collect(|| -> Result<_, Error> {
-            let scene = crate::config::parse_file(&scene_file)?;
+            let mut scene = crate::config::parse_file(&scene_file)?;
+            if let Some(a) = &config.outputs.aovs {
+                scene.aovs = a.clone();
+            }
             let job = crate::load::build(scene.clone(), &scene_file)?;
             Ok((scene, job))
         });
-        let (scene, job) = loaded?;
+        let (scene, mut job) = loaded?;
         let bounds = job.scene.shapes.iter().map(shape_bounds).collect();
+        let mut ids = vec![None; scene.shapes.len()];
+        for o in job.objects.list.iter().rev() {
+            ids[o.shape] = Some(o.instance_id);
+        }
+        let objects = job.objects.clone();
+        // The ids the frames set are the ones the base scene was built with: its built job
+        // stays the first frames' geometry (`GeometryCache::seed` compares configs).
+        for (s, id) in job.config.shapes.iter_mut().zip(&ids) {
+            s.id = *id;
+        }
+        job.config.labels = objects.labels.clone();
         let mut names = BTreeMap::new();
         for (i, s) in scene.shapes.iter().enumerate() {
             if let Some(n) = &s.name {
@@ -99,8 +131,17 @@ impl Base {
             names,
             built: Some(job),
             inputs,
+            ids,
+            labels: objects.labels.clone(),
+            objects,
+            warnings: Vec::new(),
         };
+        base.warnings = base
+            .built
+            .as_ref()
+            .map_or(Vec::new(), |j| j.warnings.clone());
         base.check()?;
+        base.envmap_warnings()?;
         for p in base.sensor_inputs()? {
             if !base.inputs.contains(&p) {
                 base.inputs.push(p);
@@ -190,29 +231,68 @@ impl Base {
 
     /// The files the variations' sensor files read in turn (spectra they name), set up as a
     /// frame would (`check_sensor` has read each file already).
-    fn sensor_inputs(&self) -> Result<Vec<PathBuf>, InputError> {
-        let dir = self.file.parent().unwrap_or(Path::new("."));
-        let files = self
+    fn sensor_inputs(&mut self) -> Result<Vec<PathBuf>, InputError> {
+        let dir = self.file.parent().unwrap_or(Path::new(".")).to_path_buf();
+        let files: Vec<String> = self
             .config
             .sensor
             .iter()
-            .flat_map(|s| s.files.iter().flatten());
+            .flat_map(|s| s.files.iter().flatten())
+            .cloned()
+            .collect();
         let mut all = Vec::new();
         for f in files {
             let field = SensorField::File(SensorFile::File(super::plan::absolute(&dir.join(f))));
+            let mut warnings = Vec::new();
             let (r, read) = crate::io::inputs::collect(|| {
                 crate::load::sensor::build(
                     Some(&field),
                     &Default::default(),
                     &self.scene_file,
                     self.scene.spectral.range,
-                    &mut Vec::new(),
+                    &mut warnings,
                 )
             });
             r?;
             all.extend(read);
+            self.warn(warnings);
         }
         Ok(all)
+    }
+
+    fn warn(&mut self, warnings: Vec<String>) {
+        for w in warnings {
+            if !self.warnings.contains(&w) {
+                self.warnings.push(w);
+            }
+        }
+    }
+
+    /// The warnings of each envmap the variation draws from, as the frame's scene loads it:
+    /// the base scene with that map alone (no shapes, so no mesh is read).
+    fn envmap_warnings(&mut self) -> Result<(), Error> {
+        let Some(e) = &self.config.envmap else {
+            return Ok(());
+        };
+        let Ok(LightRef::Emitter(k)) = self.light(&e.target, "envmap.target") else {
+            return Ok(());
+        };
+        let dir = self.file.parent().unwrap_or(Path::new(".")).to_path_buf();
+        for (i, f) in e.files.clone().into_iter().enumerate() {
+            let mut cfg = self.scene.clone();
+            cfg.shapes.clear();
+            cfg.aovs.clear();
+            cfg.labels.clear();
+            if let crate::config::EmitterConfig::Envmap { filename, .. } = &mut cfg.emitters[k] {
+                *filename = super::plan::absolute(&dir.join(&f));
+            }
+            let job = crate::load::build(cfg, &self.scene_file)?;
+            let named =
+                |w: String| format!("{}: envmap.files[{i}] `{f}`: {w}", self.file.display());
+            let warnings = job.warnings.into_iter().map(named).collect();
+            self.warn(warnings);
+        }
+        Ok(())
     }
 }
 

@@ -25,6 +25,7 @@
 use crate::error::{Error, InputError};
 use ron::extensions::Extensions;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// A whole dataset config.
@@ -59,6 +60,11 @@ pub struct DatasetConfig {
     /// The sensor chosen from a list, and an exposure in stops.
     #[serde(default)]
     pub sensor: Option<SensorVariation>,
+    /// Named frame ranges for training: `splits: {"train": (0, 80), "val": (80, 90), "test":
+    /// (90, 100)}`, each half-open `lo..hi`, disjoint, within the frames; `dataset.json` lists
+    /// them.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub splits: BTreeMap<String, (u32, u32)>,
 }
 
 /// `sensor: (files: ["../sensors/nikon_d810.ron", "../sensors/cie1931.ron"], exposure: (-1, 1))`:
@@ -75,7 +81,7 @@ pub struct SensorVariation {
     pub exposure: Option<Range>,
 }
 
-/// `outputs: (preview: true, exposure: 0, spp: 16, resolution: (128, 96))`: what each frame writes besides its EXR and
+/// `outputs: (preview: true, exposure: 0, spp: 16, resolution: (128, 96), aovs: ["depth"])`: what each frame writes besides its EXR and
 /// JSON. The EXR carries every channel the base scene's `outputs` asks for.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -88,6 +94,10 @@ pub struct FrameOutputs {
     pub spp: Option<u32>,
     /// Image size (width, height) for every frame (overrides the scene's `film`).
     pub resolution: Option<(u32, u32)>,
+    /// The AOV layers of every frame (overrides the base scene's `aovs`): `aovs: ["depth",
+    /// "instance", "label"]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aovs: Option<Vec<String>>,
 }
 
 /// A closed range `(lo, hi)` sampled uniformly; `lo == hi` is a constant.

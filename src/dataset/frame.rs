@@ -76,6 +76,14 @@ impl GeometryCache {
                 job.settings = new.settings;
                 job.channels = new.channels;
                 job.config = new.config;
+                job.aovs = new.aovs;
+                // Names, labels and materials are this frame's; where the objects are, the
+                // cached geometry's (the stand-in spheres are nowhere).
+                let mut objects = new.objects;
+                for (n, o) in objects.list.iter_mut().zip(&job.objects.list) {
+                    (n.to_world, n.bounds) = (o.to_world, o.bounds);
+                }
+                job.objects = objects;
             }
             _ => {
                 self.job = Some(crate::load::build(cfg, file)?);

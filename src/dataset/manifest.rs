@@ -199,6 +199,11 @@ impl Out {
         Ok(done)
     }
 
+    /// The frames the manifest lists (by any process: every shard's), whose files are not read.
+    pub fn listed(&self) -> Result<std::collections::BTreeSet<u32>, Error> {
+        Ok(self.lines()?.iter().map(|e| e.frame).collect())
+    }
+
     /// Rewrites the manifest with only its intact, first-per-frame lines, if it has others
     /// (a torn last line after a crash, a frame whose files were damaged). Call under the lock.
     fn compact(&self) -> Result<(), Error> {

@@ -276,6 +276,11 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         params.insert("sensor".into(), json!({"file": file, "exposure": stops}));
     }
 
+    // Ids fixed by the base scene, so a hidden shape keeps its id and its class keeps its own.
+    for (s, id) in scene.shapes.iter_mut().zip(&base.ids) {
+        s.id = *id;
+    }
+    scene.labels = base.labels.clone();
     // Hidden shapes go last: every index above refers to the base scene's shapes.
     let mut k = 0;
     scene.shapes.retain(|_| {

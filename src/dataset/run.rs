@@ -45,12 +45,29 @@ pub fn identity(base: &Base) -> Result<serde_json::Value, Error> {
     let inputs = super::assets::hashes(base)?;
     let canon = serde_json::to_string(&json!({"config": config, "scene": scene, "inputs": inputs}))
         .expect("JSON values serialise");
+    // The id tables every frame's `label.ID`, `instance.ID` and `material.ID` use (they follow
+    // from the config and scene, so the hash covers them).
+    let o = &base.objects;
+    let table = |names: &[String]| {
+        let rows = names.iter().enumerate();
+        rows.map(|(i, n)| json!({"id": i + 1, "name": n}))
+            .collect::<Vec<_>>()
+    };
+    let instances: Vec<_> = o
+        .list
+        .iter()
+        .map(|x| json!({"id": x.instance_id, "name": x.name, "label": x.label, "label_id": x.label_id}))
+        .collect();
     Ok(json!({
         "prism_version": env!("CARGO_PKG_VERSION"),
         "hash": super::manifest::hex(&Sha256::digest(canon.as_bytes())),
         "config": config,
         "scene": scene,
         "inputs": inputs,
+        "classes": table(&o.labels),
+        "instances": instances,
+        "materials": table(&o.materials),
+        "splits": base.config.splits,
     }))
 }
 
@@ -76,6 +93,10 @@ pub fn selection(base: &Base, opts: &Options) -> Result<Vec<u32>, InputError> {
 pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     let t0 = Instant::now();
     let mut base = Base::load(file)?;
+    // Once per run, also at --check: what `prism render` of its frames would warn about.
+    for w in &base.warnings {
+        eprintln!("warning: {w}");
+    }
     let frames = match opts.export_frame {
         Some(i) => selection(
             &base,
@@ -95,6 +116,8 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         root: out.to_path_buf(),
     };
     out.prepare(&identity(&base)?, opts.force, file)?;
+    // Temporaries of runs killed while writing (their process gone); a live run's stay.
+    crate::output::guard::sweep(&out.frames_dir());
     let scene_dir = base
         .scene_file
         .parent()
@@ -206,10 +229,11 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    // The contact sheet covers every frame of this selection that has a preview.
-    let pngs: Vec<_> = frames
-        .iter()
-        .map(|&i| out.stem(i).with_extension("png"))
+    // The contact sheet covers every frame the manifest lists (every shard's) with a preview.
+    let pngs: Vec<_> = out
+        .listed()?
+        .into_iter()
+        .map(|i| out.stem(i).with_extension("png"))
         .filter(|p| preview.is_some() && p.is_file())
         .collect();
     if let Some(p) = super::sheet::write(&pngs, &out.root.join("contact_sheet.png"))? {

@@ -111,7 +111,7 @@ impl Aov {
             Aov::NormalCamera => "unit shading normal, OpenCV camera frame: x right, y down, z forward (0: none)",
             Aov::GeoNormalCamera => "unit geometric normal, OpenCV camera frame (0: none)",
             Aov::Uv => "surface texture coordinates (0: none)",
-            Aov::Instance => "1 + index of the shape in `shapes` (objects[].instance_id; 0: none)",
+            Aov::Instance => "the shape's `id`, else 1 + its index in `shapes` (objects[].instance_id; 0: none)",
             Aov::Label => "id of the shape's label (labels; 0: none or unlabelled)",
             Aov::Material => "1 + index of the shape's material (materials; 0: none)",
             Aov::Alpha => "fraction of the pixel's camera samples that hit a surface (filtered like radiance)",

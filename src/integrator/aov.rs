@@ -103,14 +103,15 @@ fn distance_depth(camera: &Camera, r: &glam::DMat3, t: DVec3, p: Vec3) -> (f32, 
     (dist as f32, q.z as f32)
 }
 
-/// The layers `aovs` asks for, from the pixel-centre hits (`label_ids`: each shape's label id;
-/// `material_ids` from the scene). Float layers first, then the id layers.
+/// The layers `aovs` asks for, from the pixel-centre hits (`label_ids`, `instance_ids`: each
+/// shape's; material ids from the scene). Float layers first, then the id layers.
 pub fn layers(
     scene: &Scene,
     settings: &RenderSettings,
     hits: &[Option<Hit>],
     aovs: &[Aov],
     label_ids: &[u32],
+    instance_ids: &[u32],
 ) -> (Vec<Channel>, Vec<UintChannel>) {
     let (r, t) = scene.camera.world_to_opencv();
     let rf = r.as_mat3();
@@ -163,7 +164,7 @@ pub fn layers(
             Aov::Instance | Aov::Label | Aov::Material => {
                 let id = |h: &Option<Hit>| {
                     h.map_or(0, |h| match aov {
-                        Aov::Instance => h.shape + 1,
+                        Aov::Instance => instance_ids[h.shape as usize],
                         Aov::Label => label_ids[h.shape as usize],
                         _ => scene.shape_material[h.shape as usize] + 1,
                     })

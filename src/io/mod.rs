@@ -4,3 +4,4 @@
 
 pub mod input_file;
 pub mod inputs;
+pub mod paths;

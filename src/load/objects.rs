@@ -11,9 +11,12 @@ use std::path::Path;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Object {
-    /// 1 + the shape's index in `shapes` (0 is the background in the id layers).
+    /// The shape's `id` (plus the part's index for a glTF part), else 1 + the shape's index
+    /// in `shapes` (0 is the background in the id layers).
     pub instance_id: u32,
     pub name: String,
+    /// The index in the config's `shapes` of the shape it was built from.
+    pub shape: usize,
     pub label: Option<String>,
     /// 1 + the label's index in `Objects::labels`; 0 if unlabelled.
     pub label_id: u32,
@@ -41,6 +44,11 @@ impl Objects {
     pub fn label_ids(&self) -> Vec<u32> {
         self.list.iter().map(|o| o.label_id).collect()
     }
+
+    /// Instance id of each shape (for the `instance` layer).
+    pub fn instance_ids(&self) -> Vec<u32> {
+        self.list.iter().map(|o| o.instance_id).collect()
+    }
 }
 
 /// The scene's objects, one per built shape. `source[j]` is the config shape that built shape
@@ -53,12 +61,12 @@ pub fn objects(
     source: &[usize],
     material_names: Vec<String>,
 ) -> Result<Objects, InputError> {
-    let labels: Vec<String> = cfg
-        .shapes
+    let labels = label_table(cfg, file)?;
+    // A given table need not be sorted: ids by lookup, not by binary search.
+    let label_index: BTreeMap<&str, u32> = labels
         .iter()
-        .filter_map(|s| s.label.clone())
-        .collect::<std::collections::BTreeSet<_>>()
-        .into_iter()
+        .enumerate()
+        .map(|(k, l)| (l.as_str(), k as u32))
         .collect();
     // Names the scene gives first: a repeat among them is the user's to fix.
     let mut seen: BTreeMap<String, usize> = BTreeMap::new();
@@ -78,6 +86,7 @@ pub fn objects(
     }
     let mut taken: std::collections::BTreeSet<String> = seen.into_keys().collect();
     let mut list = Vec::with_capacity(scene.shapes.len());
+    let (mut ids, mut part) = (BTreeMap::new(), 0u32);
     for (j, shape) in scene.shapes.iter().enumerate() {
         let i = source[j];
         let sc = &cfg.shapes[i];
@@ -119,14 +128,39 @@ pub fn objects(
                 }),
         };
         let m = scene.shape_material[j];
+        // A given id counts the shape's parts from it.
+        part = if j > 0 && source[j - 1] == i {
+            part + 1
+        } else {
+            0
+        };
+        let instance_id = match sc.id {
+            Some(id) => id.checked_add(part).ok_or_else(|| {
+                InputError::new(file, format!("instance id {id} + part {part} overflows"))
+                    .field(format!("shapes[{i}].id"))
+                    .hint("give a smaller id")
+            })?,
+            None => j as u32 + 1,
+        };
+        if let Some(&k) = ids.get(&instance_id) {
+            let other: &Object = &list[k];
+            return Err(InputError::new(
+                file,
+                format!("instance id {instance_id} is also the id of \"{}\"", other.name),
+            )
+            .field(format!("shapes[{i}].id"))
+            .hint("instance ids must be unique (a glTF shape's parts take id, id + 1, …; shapes without `id` take 1 + their index)"));
+        }
+        ids.insert(instance_id, list.len());
         list.push(Object {
-            instance_id: j as u32 + 1,
+            instance_id,
             name,
+            shape: i,
             label: sc.label.clone(),
             label_id: sc
                 .label
                 .as_ref()
-                .map_or(0, |l| labels.binary_search(l).map_or(0, |k| k as u32 + 1)),
+                .map_or(0, |l| label_index.get(l.as_str()).map_or(0, |&k| k + 1)),
             material: material_names[m as usize].clone(),
             material_id: m + 1,
             to_world,
@@ -138,6 +172,33 @@ pub fn objects(
         labels,
         materials: material_names,
     })
+}
+
+/// The class table: the scene's `labels`, each shape's label among them, or else the shapes'
+/// distinct labels, sorted.
+fn label_table(cfg: &SceneConfig, file: &Path) -> Result<Vec<String>, InputError> {
+    if cfg.labels.is_empty() {
+        let set: std::collections::BTreeSet<_> =
+            cfg.shapes.iter().filter_map(|s| s.label.clone()).collect();
+        return Ok(set.into_iter().collect());
+    }
+    for (k, l) in cfg.labels.iter().enumerate() {
+        if cfg.labels[..k].contains(l) {
+            return Err(
+                InputError::new(file, format!("the label \"{l}\" is listed twice"))
+                    .field(format!("labels[{k}]"))
+                    .hint("list each label once"),
+            );
+        }
+    }
+    for (i, s) in cfg.shapes.iter().enumerate() {
+        if let Some(l) = s.label.as_ref().filter(|l| !cfg.labels.contains(l)) {
+            return Err(InputError::new(file, format!("the label \"{l}\" is not in `labels`"))
+                .field(format!("shapes[{i}].label"))
+                .hint("add it to the scene's `labels`, or leave `labels` out to number the shapes' labels in sorted order"));
+        }
+    }
+    Ok(cfg.labels.clone())
 }
 
 /// The `aovs` list by name; unknown or repeated names are errors that list the valid ones.
@@ -234,5 +295,59 @@ mod tests {
         // The second node is translated by +1 in x: its world box shows it.
         assert!((o.list[1].bounds.0.x - o.list[0].bounds.0.x - 1.0).abs() < 1e-6);
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Given ids and a class table: a glTF shape's parts count up from its `id`, labels take
+    /// their place in `labels`; a repeated id, a label missing from `labels` or listed twice
+    /// are refused naming the field.
+    #[test]
+    fn given_ids_and_labels_are_used_and_checked() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let simple = root.join("tests/data/gltf/SimpleMeshes.gltf");
+        let scene = |id: u32, labels: &str, ball: &str| {
+            format!(
+                r#"(film: (width: 8, height: 6), labels: [{labels}],
+                shapes: [
+                    (shape: Gltf(path: "{}"), id: 10, label: "toy"),
+                    (shape: Sphere(radius: 0.1), name: "ball", id: {id}, label: "{ball}"),
+                ],
+                emitters: [Constant(radiance: Named("D65"))])"#,
+                simple.display()
+            )
+        };
+        let file = root.join("scenes/given_ids.ron");
+        let job = crate::load::load_str(&scene(3, "\"zebra\", \"toy\"", "zebra"), &file).unwrap();
+        let ids: Vec<(u32, u32)> = job
+            .objects
+            .list
+            .iter()
+            .map(|o| (o.instance_id, o.label_id))
+            .collect();
+        assert_eq!(ids, [(10, 2), (11, 2), (3, 1)]);
+        assert_eq!(job.objects.labels, ["zebra", "toy"]);
+        let cases = [
+            (
+                scene(11, "\"zebra\", \"toy\"", "zebra"),
+                "shapes[1].id",
+                "instance id 11 is also the id of",
+            ),
+            (
+                scene(3, "\"toy\"", "zebra"),
+                "shapes[1].label",
+                "\"zebra\" is not in `labels`",
+            ),
+            (
+                scene(3, "\"toy\", \"zebra\", \"toy\"", "zebra"),
+                "labels[2]",
+                "listed twice",
+            ),
+        ];
+        for (text, field, needle) in cases {
+            let Err(e) = crate::load::load_str(&text, &file) else {
+                panic!("{field}: accepted")
+            };
+            let msg = e.to_string();
+            assert!(msg.contains(field) && msg.contains(needle), "{msg}");
+        }
     }
 }

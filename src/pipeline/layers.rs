@@ -16,7 +16,15 @@ pub fn add_layers(job: &Job, film: &mut Film, stderr: Option<&[f32]>) -> Option<
         .then(|| first_hits(&job.scene, s.width, s.height));
     let none = Vec::new();
     let h = hits.as_deref().unwrap_or(&none);
-    let (floats, ids) = layers(&job.scene, s, h, &job.aovs, &job.objects.label_ids());
+    let o = &job.objects;
+    let (floats, ids) = layers(
+        &job.scene,
+        s,
+        h,
+        &job.aovs,
+        &o.label_ids(),
+        &o.instance_ids(),
+    );
     film.channels.extend(floats);
     film.uint_channels.extend(ids);
     if let (true, Some(se)) = (job.aovs.contains(&Aov::Stderr), stderr) {

@@ -12,6 +12,7 @@ use crate::error::Error;
 use crate::film::{Aov, Film};
 use crate::integrator::aov::Hit;
 use crate::integrator::{self, RenderStats};
+use crate::io::paths;
 use crate::load::Job;
 use crate::output;
 use std::path::{Path, PathBuf};
@@ -25,6 +26,10 @@ pub struct Rendered {
     pub hits: Option<Vec<Option<Hit>>>,
     /// Seconds of the colour pass.
     pub seconds: f64,
+    /// The dataset exposure applied to the sensor's channels (1 for `prism render`), and the
+    /// channels it scaled: recorded in the EXR header and the sidecar with its meaning.
+    pub exposure_scale: f32,
+    pub scaled: Vec<String>,
 }
 
 /// Renders `job` in the current rayon pool: the colour pass (`progress` gets sample counts),
@@ -33,14 +38,21 @@ pub fn render(job: &Job, exposure_scale: f32, progress: &(dyn Fn(u64) + Sync)) -
     let s = &job.settings;
     let t = Instant::now();
     let stderr = job.aovs.contains(&Aov::Stderr);
-    let (mut film, stats, se) =
+    let (mut film, stats, mut se) =
         integrator::render_film(&job.scene, s, &job.channels, stderr, progress);
     let seconds = t.elapsed().as_secs_f64();
     // A dataset's sensor variation: before the AOVs join, the film holds the sensor's channels
-    // alone (one multiply per pixel and channel, none per sample).
+    // alone (one multiply per pixel and channel, none per sample); their standard errors scale
+    // with them, so `stderr` is that of the values in the file.
+    let mut scaled = Vec::new();
     if exposure_scale != 1.0 {
         for c in &mut film.channels {
             c.data.iter_mut().for_each(|v| *v *= exposure_scale);
+            scaled.push(c.name.clone());
+        }
+        se.iter_mut().for_each(|v| *v *= exposure_scale);
+        if stderr {
+            scaled.push("stderr.*".into());
         }
     }
     let hits = add_layers(job, &mut film, Some(&se));
@@ -49,6 +61,8 @@ pub fn render(job: &Job, exposure_scale: f32, progress: &(dyn Fn(u64) + Sync)) -
         stats,
         hits,
         seconds,
+        exposure_scale,
+        scaled,
     }
 }
 
@@ -75,7 +89,27 @@ pub struct Files<'a> {
 /// in that order.
 pub fn write(job: &Job, r: &Rendered, files: &Files) -> Result<Vec<PathBuf>, Error> {
     let timed = matches!(files.sidecar, Sidecar::Render);
-    let extra = header(job, files.scene, &r.stats, timed.then_some(r.seconds));
+    // A frame records its scene relative to the scene's own folder: its files must not depend
+    // on the directory the run started from.
+    let folder = paths::normal(files.scene.parent().unwrap_or(Path::new(".")));
+    let rel = |p: &Path| paths::relative(&paths::normal(p), &folder);
+    let mut extra = header(job, files.scene, &r.stats, timed.then_some(r.seconds));
+    if !timed {
+        if let Some(kv) = extra.iter_mut().find(|(k, _)| k == "prism:scene") {
+            kv.1 = rel(files.scene);
+        }
+    }
+    let exposure = exposure(r);
+    if let Some(e) = &exposure {
+        extra.push((
+            "prism:datasetExposureScale".into(),
+            r.exposure_scale.to_string(),
+        ));
+        extra.push((
+            "prism:datasetExposureChannels".into(),
+            e["channels"].to_string(),
+        ));
+    }
     output::exr::write(&r.film, files.exr, &extra)?;
     let json = output::sidecar::path_for(files.exr);
     match files.sidecar {
@@ -98,8 +132,19 @@ pub fn write(job: &Job, r: &Rendered, files: &Files) -> Result<Vec<PathBuf>, Err
                 r.seconds,
             );
             sidecar["frame"] = params.clone();
+            if let Some(e) = exposure {
+                sidecar["sensor"]["exposure"] = e;
+            }
             if let Some(r) = sidecar["render"].as_object_mut() {
                 r.remove("seconds");
+                let rel = |p: &serde_json::Value| match p.as_str() {
+                    Some(p) => rel(Path::new(p)).into(),
+                    None => p.clone(),
+                };
+                r["scene_file"] = rel(&r["scene_file"]);
+                for f in r["files"].as_array_mut().into_iter().flatten() {
+                    f["path"] = rel(&f["path"]);
+                }
             }
             let mut text = serde_json::to_string_pretty(&sidecar)
                 .map_err(|e| Error::Other(format!("frame parameters: {e}")))?;
@@ -115,6 +160,19 @@ pub fn write(job: &Job, r: &Rendered, files: &Files) -> Result<Vec<PathBuf>, Err
         written.push(png.to_path_buf());
     }
     Ok(written)
+}
+
+/// The sidecar's `sensor.exposure` of a render whose sensor channels were scaled (a dataset's
+/// exposure variation): the scale, the channels and what it means; None when nothing was scaled.
+fn exposure(r: &Rendered) -> Option<serde_json::Value> {
+    (r.exposure_scale != 1.0).then(|| {
+        serde_json::json!({
+            "stops": r.exposure_scale.log2(),
+            "scale": r.exposure_scale,
+            "channels": r.scaled,
+            "meaning": "each listed channel is the scene's value (in the units above) times `scale`, as if every light were `scale` times as bright; the AOVs are not scaled",
+        })
+    })
 }
 
 /// The `prism:` attributes of every render's EXR header. `seconds`: the colour pass's time, or

@@ -5,7 +5,9 @@ sheet, and run one on a Ray cluster.
     ds = dataset.open_dataset("out/tabletop")
     f = ds[3]                      # nothing read yet
     wl, cube = f.spectral()        # wavelengths (nm, increasing) and an H x W x N radiance cube
-    rgb = f.layer("RGB")           # H x W x 3 linear sRGB
+    rgb = f.layer("RGB")           # H x W x 3 linear sRGB, float32
+    ids = f.layer("instance")      # H x W uint32 (ids stay integers; outputs.read's types)
+    loader = DataLoader(dataset.FrameDataset("out/tabletop", layers=("RGB", "label")))
     f.params["camera"]["fov"]      # the frame's sampled parameters
     dataset.contact_sheet(ds, "sheet.png")
 
@@ -24,7 +26,6 @@ import argparse
 import json
 import os
 import pathlib
-import re
 import signal
 import subprocess
 import sys
@@ -33,7 +34,7 @@ from functools import cached_property
 
 import numpy as np
 
-_SPECTRAL = re.compile(r"^S0\.(\d+(?:,\d+)?)nm$")
+from . import outputs
 
 
 def _prism_bin(prism_bin: str | os.PathLike | None = None) -> str:
@@ -75,70 +76,42 @@ class Frame:
         return self.sidecar["frame"]
 
     @cached_property
-    def _image(self) -> tuple[list[str], np.ndarray, dict]:
-        import OpenImageIO as oiio
-
-        inp = oiio.ImageInput.open(str(self.exr_path))
-        if inp is None:
-            raise OSError(f"{self.exr_path}: {oiio.geterror()}")
-        try:
-            spec = inp.spec()
-            pixels = inp.read_image(0, 0, 0, spec.nchannels, "float")
-            meta = {a.name: a.value for a in spec.extra_attribs}
-            return list(spec.channelnames), np.asarray(pixels, dtype=np.float32), meta
-        finally:
-            inp.close()
+    def render(self) -> outputs.Render:
+        """The frame's EXR and JSON through `outputs.read`, the one reader of prism's files."""
+        return outputs.read(self.exr_path)
 
     @property
     def channels(self) -> list[str]:
-        return self._image[0]
+        return list(self.render.channels)
 
     @property
     def metadata(self) -> dict:
         """The EXR header's attributes (prism:seed, prism:spp, spectralLayoutVersion, ...)."""
-        return self._image[2]
+        return self.render.metadata
 
     def channel(self, name: str) -> np.ndarray:
-        names, px, _ = self._image
-        return px[..., names.index(name)]
+        """One channel: float32 (H, W), or uint32 for an id channel (`instance.ID`)."""
+        return self.render.channels[name]
 
     def spectral(self) -> tuple[np.ndarray, np.ndarray]:
         """(wavelengths in nm, increasing; H x W x N spectral radiance, W m^-2 sr^-1 nm^-1)."""
-        names, px, _ = self._image
-        found = [(float(m.group(1).replace(",", ".")), i) for i, n in enumerate(names) if (m := _SPECTRAL.match(n))]
-        if not found:
-            raise KeyError(f"{self.exr_path} has no spectral channels")
-        found.sort()
-        wl = np.array([w for w, _ in found])
-        return wl, px[..., [i for _, i in found]]
+        r = self.render
+        if r.spectral is None:
+            raise KeyError(
+                f"{self.exr_path} has no spectral channels (S0.<nm>nm): its sensor writes {self.layers()}; "
+                "give the base scene's sensor `bands` for a spectral dataset (configs/README.md)"
+            )
+        return r.wavelengths, r.spectral
 
     def layers(self) -> list[str]:
         """Layer names: `RGB`, `XYZ`, `S0` (spectral) and every `layer.channel` prefix (AOVs)."""
-        out = []
-        names = self.channels
-        if all(c in names for c in "RGB"):
-            out.append("RGB")
-        if all(c in names for c in "XYZ"):
-            out.append("XYZ")
-        for n in names:
-            if "." in n:
-                layer = n.split(".", 1)[0]
-                if layer not in out:
-                    out.append(layer)
-        return out
+        return self.render.layers()
 
     def layer(self, name: str) -> np.ndarray:
-        """H x W x C: `RGB`, `XYZ`, `S0` (the spectral cube, by wavelength) or an AOV layer
-        (its channels in file order, e.g. `normal` -> X, Y, Z)."""
-        if name in ("RGB", "XYZ"):
-            return np.stack([self.channel(c) for c in name], axis=-1)
-        if name == "S0":
-            return self.spectral()[1]
-        names, px, _ = self._image
-        idx = [i for i, n in enumerate(names) if n.split(".", 1)[0] == name and "." in n]
-        if not idx:
-            raise KeyError(f"{self.exr_path} has no layer {name!r}; it has {self.layers()}")
-        return px[..., idx]
+        """As `outputs.Render.layer`: `RGB`, `XYZ` (H, W, 3), `S0` (the spectral cube, by
+        wavelength) or an AOV layer, (H, W) for one channel else (H, W, C); floats float32,
+        ids uint32."""
+        return self.render.layer(name)
 
 
 @dataclass
@@ -162,6 +135,31 @@ class Dataset:
 
     def __iter__(self):
         return (self[i] for i in self.indices())
+
+
+class FrameDataset:
+    """A map-style dataset over a `prism dataset` folder, for `torch.utils.data.DataLoader`
+    (which needs only `__len__` and `__getitem__`; torch is not imported here): item k is the
+    k-th finished frame in frame order as {layer: array for each of `layers`, "frame": its
+    index}, arrays as `Frame.layer` gives them (float32; ids uint32, (H, W)). `transform`, if
+    given, maps that dict to what the loader should see (e.g. ids to int64 for older torch)."""
+
+    def __init__(self, root: str | os.PathLike, layers=("RGB",), transform=None):
+        self.dataset = open_dataset(root)
+        self.frames = self.dataset.indices()
+        self.layers = tuple(layers)
+        self.transform = transform
+
+    def __len__(self) -> int:
+        return len(self.frames)
+
+    def __getitem__(self, k: int) -> dict:
+        if not -len(self) <= k < len(self):
+            raise IndexError(f"item {k} of {len(self)}")
+        f = self.dataset[self.frames[k]]
+        item = {name: f.layer(name) for name in self.layers}
+        item["frame"] = f.index
+        return self.transform(item) if self.transform else item
 
 
 def read_manifest(root: str | os.PathLike) -> list[dict]:

@@ -25,6 +25,32 @@ impl Base {
                 "the resolution must be between 1×1 and 32768×32768",
             ));
         }
+        let mut splits: Vec<(&String, &(u32, u32))> = c.splits.iter().collect();
+        splits.sort_by_key(|s| s.1);
+        for (k, (name, &(lo, hi))) in splits.iter().enumerate() {
+            let field = format!("splits.{name}");
+            if lo >= hi || hi > c.frames {
+                return Err(self
+                    .err(
+                        &field,
+                        format!(
+                            "the range ({lo}, {hi}) is not a range of frames lo..hi within 0..{}",
+                            c.frames
+                        ),
+                    )
+                    .hint("give (lo, hi) with lo < hi ≤ frames (hi is not included)"));
+            }
+            if let Some((other, &(_, prev_hi))) = k.checked_sub(1).map(|j| splits[j]) {
+                if lo < prev_hi {
+                    return Err(self
+                        .err(
+                            &field,
+                            format!("the range ({lo}, {hi}) overlaps split \"{other}\""),
+                        )
+                        .hint("splits must not share frames"));
+                }
+            }
+        }
         if !c.outputs.exposure.is_finite() {
             return Err(self.err("outputs.exposure", "the exposure must be finite"));
         }

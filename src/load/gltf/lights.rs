@@ -228,6 +228,7 @@ pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), Inp
         flip_normals: false,
         name: None,
         label: None,
+        id: None,
     });
     let emissive = w.primitives.iter().any(|p| {
         let m = match p.material {
