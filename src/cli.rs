@@ -266,6 +266,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     reporter.finish();
     let hits = pool.install(|| integrator::aov::add_layers(&job, &mut film, Some(&se)));
 
+    output::check_finite(&film, &args.scene)?;
     let extra = metadata(args, &job, &stats, render_s);
     output::exr::write(&film, &out, &extra)?;
     let sidecar = output::sidecar::path_for(&out);

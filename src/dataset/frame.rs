@@ -127,6 +127,7 @@ pub fn render_frame(
     // The scene's AOV layers, and the pixel-centre hits the sidecar's boxes come from (when
     // a layer or `boxes` asked for them).
     let hits = integrator::aov::add_layers(job, &mut film, Some(&se));
+    output::check_finite(&film, scene_file)?;
     let exr = stem.with_extension("exr");
     let extra = vec![
         ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
