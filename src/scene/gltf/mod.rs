@@ -14,6 +14,7 @@ mod expand;
 mod lights;
 mod materials;
 mod nodes;
+mod unread;
 
 use crate::config::input_file::{self, Kind};
 use crate::error::InputError;
