@@ -214,7 +214,7 @@ mod tests {
                 Gamut::Srgb,
                 &img,
                 factor,
-                Wrap::Repeat,
+                [Wrap::Repeat; 2],
                 filter,
                 UvMap::IDENTITY,
             );
@@ -241,7 +241,7 @@ mod tests {
                 ..img
             },
             factor,
-            Wrap::Repeat,
+            [Wrap::Repeat; 2],
             TexFilter::Bilinear,
             UvMap::IDENTITY,
         );
