@@ -1190,7 +1190,7 @@ fn wrap_t_and_unread_features() {
         image::RgbImage::from_raw(2, 2, vec![0, 255, 0, 0, 153, 0, 0, 102, 0, 0, 51, 0]).unwrap(),
     );
     let mat = r#"{"pbrMetallicRoughness": {"metallicRoughnessTexture": {"index": 0}}}"#;
-    let file = textured_quad(&dir, "wrapt", mat, &[img.clone()]);
+    let file = textured_quad(&dir, "wrapt", mat, std::slice::from_ref(&img));
     let text = std::fs::read_to_string(&file).unwrap();
     let clamp_both = r#""wrapS": 33071, "wrapT": 33071"#;
     assert!(text.contains(clamp_both));
