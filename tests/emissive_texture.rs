@@ -637,7 +637,7 @@ fn weighted_triangle_sampler_matches_its_pdf() {
         prism::spectrum::gamut::Gamut::Srgb,
         &img,
         [1.0; 3],
-        Wrap::Clamp,
+        [Wrap::Clamp; 2],
         TexFilter::Nearest,
         UvMap::IDENTITY,
     );

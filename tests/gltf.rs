@@ -1176,3 +1176,74 @@ fn gltf_orthographic_camera_matches_ron_camera() {
     let d = r.d.normalize();
     assert!((d - Vec3::NEG_Z).length() < 1e-5, "{d}");
 }
+
+/// Issue 27 item 4: a sampler's wrapT is honoured apart from wrapS (both used wrapS), and
+/// what prism does not read warns at load: COLOR_0, MIRRORED_REPEAT, a dispersive glass's
+/// roughness texture. The texture: 2×2 nearest texels whose G (roughness) is 1.0, 0.6 (top
+/// row) and 0.4, 0.2 (bottom); wrapS REPEAT and wrapT CLAMP_TO_EDGE. At uv (1.25, 0.25)
+/// u repeats onto the top-left texel (1.0; clamped it would be 0.6); at (0.25, 1.25) v clamps
+/// onto the bottom-left texel (0.4; repeated it would be 1.0). Exact: 8-bit texels / 255.
+#[test]
+fn wrap_t_and_unread_features() {
+    let dir = workdir("wrapt");
+    let img = image::DynamicImage::ImageRgb8(
+        image::RgbImage::from_raw(2, 2, vec![0, 255, 0, 0, 153, 0, 0, 102, 0, 0, 51, 0]).unwrap(),
+    );
+    let mat = r#"{"pbrMetallicRoughness": {"metallicRoughnessTexture": {"index": 0}}}"#;
+    let file = textured_quad(&dir, "wrapt", mat, std::slice::from_ref(&img));
+    let text = std::fs::read_to_string(&file).unwrap();
+    let clamp_both = r#""wrapS": 33071, "wrapT": 33071"#;
+    assert!(text.contains(clamp_both));
+    std::fs::write(
+        &file,
+        text.replace(clamp_both, r#""wrapS": 10497, "wrapT": 33071"#),
+    )
+    .unwrap();
+    let job = prism::load::load(&file, small).unwrap();
+    let prism::texture::FloatTexture::Bitmap(g) = &principled(&job).roughness else {
+        panic!()
+    };
+    assert_eq!(
+        (g.wrap, g.wrap_v),
+        (prism::texture::Wrap::Repeat, prism::texture::Wrap::Clamp)
+    );
+    let r = &principled(&job).roughness;
+    let at = |u: f32, v: f32| r.eval(glam::Vec2::new(u, v));
+    assert_eq!(at(1.25, 0.25), 1.0);
+    assert_eq!(at(0.25, 1.25), 102.0 / 255.0);
+    assert!(
+        job.warnings.iter().all(|w| !w.contains("COLOR_0")),
+        "{:?}",
+        job.warnings
+    );
+
+    // COLOR_0 (the normals' accessor read as colours: a valid VEC3 float) and a mirrored
+    // sampler: each named in a warning.
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace(r#""TEXCOORD_1": 3}"#, r#""TEXCOORD_1": 3, "COLOR_0": 1}"#)
+        .replace(r#""wrapS": 10497"#, r#""wrapS": 33648"#);
+    std::fs::write(&file, text).unwrap();
+    let job = prism::load::load(&file, small).unwrap();
+    let has = |needle: &str| job.warnings.iter().any(|w| w.contains(needle));
+    assert!(has("COLOR_0") && has("wrapt.gltf"), "{:?}", job.warnings);
+    assert!(has("MIRRORED_REPEAT"), "{:?}", job.warnings);
+
+    // A dispersive glass with a roughness texture: the texture is not read, and says so.
+    let glass = r#"{"pbrMetallicRoughness": {"roughnessFactor": 0.3, "metallicRoughnessTexture": {"index": 0}},
+        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_dispersion": {"dispersion": 0.5}}}"#;
+    let file = textured_quad(&dir, "glass", glass, &[img]);
+    let text = std::fs::read_to_string(&file).unwrap().replace(
+        r#""KHR_materials_transmission"]"#,
+        r#""KHR_materials_transmission", "KHR_materials_dispersion"]"#,
+    );
+    std::fs::write(&file, text).unwrap();
+    let job = prism::load::load(&file, small).unwrap();
+    assert!(
+        job.warnings
+            .iter()
+            .any(|w| w.contains("dispersive") && w.contains("metallicRoughnessTexture")),
+        "{:?}",
+        job.warnings
+    );
+}

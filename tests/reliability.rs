@@ -28,6 +28,7 @@ fn nan_bitmap() -> FloatTexture {
         height: 2,
         texels: vec![0.5, f32::NAN, 0.5, 0.5],
         wrap: Wrap::Repeat,
+        wrap_v: Wrap::Repeat,
         filter: TexFilter::Bilinear,
         map: UvMap::IDENTITY,
         source: None,

@@ -150,8 +150,8 @@ impl Camera {
     }
 
     /// World → OpenCV's camera frame (x right, y down, z forward): x_cam = R·x_world + t, in
-    /// world units. A scale in `to_world` (which changes no ray direction) is divided out of
-    /// its columns, so R is a rotation for any rigid-plus-uniform-scale camera transform.
+    /// world units. A uniform scale in `to_world` (which changes no ray direction) is divided
+    /// out of its columns; the loader refuses any other linear part (`pose_error`).
     pub fn world_to_opencv(&self) -> (DMat3, DVec3) {
         let m = self.to_world().m.as_dmat4();
         let axis = |v: glam::DVec4| v.truncate().normalize();
@@ -161,10 +161,62 @@ impl Camera {
         (r, -(r * m.w_axis.truncate()))
     }
 
+    /// OpenCV's Rodrigues vector of `world_to_opencv`'s R (axis × angle, angle in [0, π]),
+    /// through R's quaternion, which stays exact near π where the skew-part formula
+    /// angle / (2 sin angle) · (R − Rᵀ) loses the axis (a camera turned 180° gave [0, 0, 0]).
+    pub fn rvec_opencv(&self) -> DVec3 {
+        let q = glam::DQuat::from_mat3(&self.world_to_opencv().0).normalize();
+        // q and −q are the same rotation: w ≥ 0 keeps the angle in [0, π].
+        let (v, w) = if q.w < 0.0 {
+            (-q.xyz(), -q.w)
+        } else {
+            (q.xyz(), q.w)
+        };
+        let s = v.length();
+        if s == 0.0 {
+            return DVec3::ZERO;
+        }
+        v * (2.0 * s.atan2(w) / s)
+    }
+
     /// Camera → world in OpenGL's (and Blender's) camera frame: x right, y up, looking along −z.
     pub fn camera_to_world_opengl(&self) -> DMat4 {
         let m = self.to_world().m.as_dmat4();
         let axis = |v: glam::DVec4| v.truncate().normalize().extend(0.0);
         DMat4::from_cols(-axis(m.x_axis), axis(m.y_axis), -axis(m.z_axis), m.w_axis)
     }
+}
+
+/// Why a camera `to_world` is not a rotation times a uniform positive scale (None when it is).
+/// A shear, a non-uniform scale or a mirror changes the rays in ways no R, t and K describe,
+/// so the sidecar could not state the camera exactly. The tolerance, 1e-4 relative, is far
+/// above f32 rounding of composed rotations and look-ats (~1e-6) and far below any
+/// deliberate scale or shear.
+pub fn pose_error(to_world: &Transform) -> Option<String> {
+    let m = glam::DMat3::from_mat4(to_world.m.as_dmat4());
+    let cols = [m.x_axis, m.y_axis, m.z_axis];
+    let len = cols.map(|c| c.length());
+    let s = (len[0] + len[1] + len[2]) / 3.0;
+    let tol = 1e-4;
+    if !(s.is_finite() && s > 0.0) {
+        return Some("its linear part is degenerate (a zero scale)".into());
+    }
+    if len.iter().any(|l| (l - s).abs() > tol * s) {
+        return Some(format!(
+            "it scales the camera's axes unequally (column lengths {:.6}, {:.6}, {:.6})",
+            len[0], len[1], len[2]
+        ));
+    }
+    let dots = [
+        cols[0].dot(cols[1]),
+        cols[0].dot(cols[2]),
+        cols[1].dot(cols[2]),
+    ];
+    if dots.iter().any(|d| d.abs() > tol * s * s) {
+        return Some("it shears the camera (its axes are not perpendicular)".into());
+    }
+    if m.determinant() < 0.0 {
+        return Some("it mirrors the camera (a negative scale)".into());
+    }
+    None
 }

@@ -67,7 +67,7 @@ impl EmissionTexture {
         gamut: Gamut,
         image: &RgbImage,
         factor: [f32; 3],
-        wrap: Wrap,
+        wrap: [Wrap; 2],
         filter: TexFilter,
         map: UvMap,
     ) -> EmissionTexture {
@@ -99,12 +99,19 @@ impl EmissionTexture {
             Some(Curve::Dense(d)) => d,
             _ => unreachable!("the embedded D65 table is evenly spaced"),
         };
-        fn grid<T>(image: &RgbImage, texels: Vec<T>, w: Wrap, f: TexFilter, m: UvMap) -> Grid<T> {
+        fn grid<T>(
+            image: &RgbImage,
+            texels: Vec<T>,
+            w: [Wrap; 2],
+            f: TexFilter,
+            m: UvMap,
+        ) -> Grid<T> {
             Grid {
                 width: image.width,
                 height: image.height,
                 texels,
-                wrap: w,
+                wrap: w[0],
+                wrap_v: w[1],
                 filter: f,
                 map: m,
                 source: image.source.clone(),
@@ -207,7 +214,7 @@ mod tests {
                 Gamut::Srgb,
                 &img,
                 factor,
-                Wrap::Repeat,
+                [Wrap::Repeat; 2],
                 filter,
                 UvMap::IDENTITY,
             );
@@ -234,7 +241,7 @@ mod tests {
                 ..img
             },
             factor,
-            Wrap::Repeat,
+            [Wrap::Repeat; 2],
             TexFilter::Bilinear,
             UvMap::IDENTITY,
         );

@@ -40,6 +40,24 @@ impl Film {
             .count() as u64
     }
 
+    /// The first value an output must not hold, with how many pixels hold one: NaN or ±inf
+    /// in any float channel, except +inf in `distance` and `depth`, their documented "no
+    /// surface". Returns (channel, x, y, value, pixels).
+    pub fn first_nonfinite(&self) -> Option<(&str, u32, u32, f32, u64)> {
+        let allowed = |c: &Channel, v: f32| {
+            v == f32::INFINITY && (c.name.starts_with("distance.") || c.name.starts_with("depth."))
+        };
+        let bad = |c: &Channel, v: f32| !v.is_finite() && !allowed(c, v);
+        let n = (self.width * self.height) as usize;
+        let count = (0..n)
+            .filter(|&i| self.channels.iter().any(|c| bad(c, c.data[i])))
+            .count() as u64;
+        let i = (0..n).find(|&i| self.channels.iter().any(|c| bad(c, c.data[i])))?;
+        let c = self.channels.iter().find(|c| bad(c, c.data[i]))?;
+        let w = self.width as usize;
+        Some((&c.name, (i % w) as u32, (i / w) as u32, c.data[i], count))
+    }
+
     pub fn channel(&self, name: &str) -> Option<&[f32]> {
         self.channels
             .iter()
@@ -51,6 +69,41 @@ impl Film {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The output rule: NaN or ±inf anywhere fails the render, bar the +inf that `depth` and
+    /// `distance` write where no surface is.
+    #[test]
+    fn nonfinite_outputs_are_found_except_the_depth_background() {
+        let ch = |name: &str, data: Vec<f32>| Channel {
+            name: name.into(),
+            data,
+        };
+        let mut film = Film {
+            width: 2,
+            height: 1,
+            channels: vec![
+                ch("R", vec![0.5, 1.0]),
+                ch("depth.Z", vec![f32::INFINITY, 2.0]),
+                ch("distance.Y", vec![3.0, f32::INFINITY]),
+            ],
+            band_centers: vec![],
+            uint_channels: vec![],
+            header: vec![],
+        };
+        assert_eq!(film.first_nonfinite(), None);
+        film.channels[1].data[1] = f32::NAN;
+        let (c, x, y, _, n) = film.first_nonfinite().unwrap();
+        assert_eq!((c, x, y, n), ("depth.Z", 1, 0, 1));
+        film.channels[0].data[0] = f32::NEG_INFINITY;
+        let (c, x, y, v, n) = film.first_nonfinite().unwrap();
+        assert_eq!((c, x, y, v, n), ("R", 0, 0, f32::NEG_INFINITY, 2));
+        film.channels[1].data[0] = f32::NEG_INFINITY;
+        film.channels[0].data[0] = 0.0;
+        assert_eq!(film.first_nonfinite().unwrap().0, "depth.Z");
+        let e = crate::output::check_finite(&film, std::path::Path::new("s.ron")).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("s.ron") && e.to_string().contains("depth.Z"));
+    }
 
     #[test]
     fn fichet_channel_names() {

@@ -140,6 +140,14 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         "camera.to_world",
         "the camera",
     )?;
+    if let Some(why) = crate::camera::pose_error(&cam_t) {
+        return Err(InputError::new(
+            file,
+            format!("the camera's to_world is not a rotation, translation and uniform scale: {why}"),
+        )
+        .field("camera.to_world")
+        .hint("remove the Scale or Matrix entry that scales the axes unequally, shears or mirrors; a camera's image is set by fov or intrinsics, not by scaling its transform"));
+    }
     let camera = super::camera::camera(
         c,
         cam_t,

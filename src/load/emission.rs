@@ -86,7 +86,7 @@ pub fn area_radiance(
     let ctx = spectrum_ctx(file, field, range);
     let map = uv_map(&ctx, *uv_scale, *uv_offset)?;
     Ok(AreaRadiance::Textured(Box::new(EmissionTexture::new(
-        gamut, &img, [scale; 3], *wrap, *filter, map,
+        gamut, &img, [scale; 3], [*wrap; 2], *filter, map,
     ))))
 }
 

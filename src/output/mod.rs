@@ -33,3 +33,18 @@ pub fn write_atomic(
     write(tmp.path()).map_err(err)?;
     tmp.rename(path).map_err(|e| err(e.to_string()))
 }
+
+/// The rule for every render: an output holding NaN or ±inf (bar `distance`/`depth`'s +inf
+/// background) is not written; the run fails with exit 2 naming the scene and the channel.
+/// Every sample is already checked, so such a value comes from a factor past f32's range.
+pub fn check_finite(film: &crate::film::Film, scene: &Path) -> Result<(), Error> {
+    let Some((channel, x, y, v, n)) = film.first_nonfinite() else {
+        return Ok(());
+    };
+    Err(InputError::new(
+        scene,
+        format!("the render holds non-finite values in {n} pixels (first: {v} in channel {channel} at pixel ({x}, {y})); nothing was written"),
+    )
+    .hint("a factor of the scene or sensor exceeds single precision: lower the emitter strengths, the sensor's exposure (iso · shutter / f_number²) or its gain")
+    .into())
+}

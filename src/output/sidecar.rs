@@ -40,6 +40,7 @@ pub fn camera(cam: &Camera, width: u32, height: u32) -> Value {
         "dist": [d.k1, d.k2, d.p1, d.p2, d.k3],
         "pixel_convention": "OpenCV: pixel (i, j) has its centre at (i, j); prism's film coordinates are OpenCV's + 0.5",
         "R": rows3(&r),
+        "rvec": cam.rvec_opencv().to_array(),
         "t": t.to_array(),
         "world_to_camera_opencv": rows4(&w2c),
         "camera_to_world_opengl": rows4(&cam.camera_to_world_opengl()),

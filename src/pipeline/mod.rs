@@ -88,6 +88,8 @@ pub struct Files<'a> {
 /// Writes the EXR, the JSON sidecar beside it and the preview, each atomically; returns them
 /// in that order.
 pub fn write(job: &Job, r: &Rendered, files: &Files) -> Result<Vec<PathBuf>, Error> {
+    // A non-finite value in any channel fails the render before anything is written.
+    output::check_finite(&r.film, files.scene)?;
     let timed = matches!(files.sidecar, Sidecar::Render);
     // A frame records its scene relative to the scene's own folder: its files must not depend
     // on the directory the run started from.

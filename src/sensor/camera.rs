@@ -116,6 +116,11 @@ fn outer(u: DVec3, v: DVec3) -> DMat3 {
     DMat3::from_cols(u * v.x, u * v.y, u * v.z)
 }
 
+/// The range the exposure factor must lie in: a real camera's runs from ~1e-10 (ISO 50,
+/// 1 µs, f/64) to ~1e6 (ISO 1e6, 30 s, f/0.5); beyond 1e15 a radiance of 1e23 overflows f32,
+/// below 1e-15 every channel underflows to 0.
+pub const EXPOSURE_RANGE: (f64, f64) = (1e-15, 1e15);
+
 /// The exposure factor k = (ISO/100) · t · π / (4 N²) (module docs).
 pub fn exposure_scale(iso: f64, shutter: f64, f_number: f64) -> f64 {
     iso / 100.0 * shutter * std::f64::consts::PI / (4.0 * f_number * f_number)

@@ -61,7 +61,10 @@ pub struct Grid<T> {
     pub width: usize,
     pub height: usize,
     pub texels: Vec<T>,
+    /// Along u (and v unless `wrap_v` says otherwise).
     pub wrap: Wrap,
+    /// Along v: glTF's samplers set wrapS and wrapT apart; RON textures use `wrap` for both.
+    pub wrap_v: Wrap,
     pub filter: TexFilter,
     pub map: UvMap,
     /// The image file it came from (for exporting the scene to other renderers).
@@ -103,14 +106,14 @@ impl<T: Copy> Grid<T> {
 
     #[inline]
     fn index(&self, x: f32, y: f32) -> usize {
-        let wrap = |v: f32, n: usize| -> usize {
+        let wrap = |v: f32, n: usize, mode: Wrap| -> usize {
             let i = if v.is_finite() { v.floor() as i64 } else { 0 };
-            match self.wrap {
+            match mode {
                 Wrap::Repeat => i.rem_euclid(n as i64) as usize,
                 Wrap::Clamp => i.clamp(0, n as i64 - 1) as usize,
             }
         };
-        wrap(y, self.height) * self.width + wrap(x, self.width)
+        wrap(y, self.height, self.wrap_v) * self.width + wrap(x, self.width, self.wrap)
     }
 }
 
@@ -277,6 +280,7 @@ mod tests {
             height: 1,
             texels: vec![0.0f32, 1.0],
             wrap: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
             filter: TexFilter::Bilinear,
             map,
         };
@@ -288,6 +292,7 @@ mod tests {
         assert!((b.eval(Vec2::new(1.0, 0.5)) - 0.5).abs() < 1e-6);
         let clamp = FloatTexture::Bitmap(Box::new(Grid {
             wrap: Wrap::Clamp,
+            wrap_v: Wrap::Clamp,
             ..g
         }));
         assert!((clamp.eval(Vec2::new(1.0, 0.5)) - 1.0).abs() < 1e-6);

@@ -103,15 +103,18 @@ def read(path: str | pathlib.Path) -> Render:
 
 
 def camera_matrices(sidecar: dict) -> dict[str, np.ndarray]:
-    """The sidecar's camera as numpy arrays: K, dist, R, t, rvec (Rodrigues), world_to_camera
-    (OpenCV), camera_to_world_opengl."""
+    """The sidecar's camera as numpy arrays: K, dist, R, t, rvec (Rodrigues, for
+    cv2.projectPoints), world_to_camera (OpenCV), camera_to_world_opengl."""
     cam = sidecar["camera"]
     r = np.array(cam["R"], dtype=np.float64)
-    angle = np.arccos(np.clip((np.trace(r) - 1) / 2, -1, 1))
-    if angle < 1e-12:
-        rvec = np.zeros(3)
+    if "rvec" in cam:
+        rvec = np.array(cam["rvec"], dtype=np.float64)
     else:
-        rvec = angle / (2 * np.sin(angle)) * np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+        # Sidecars before rvec: OpenCV's own conversion, exact near 180° (where the skew part
+        # of R vanishes and angle / (2 sin angle) · skew loses the axis).
+        import cv2
+
+        rvec = cv2.Rodrigues(r)[0][:, 0]
     return {
         "K": np.array(cam["K"], dtype=np.float64),
         "dist": np.array(cam["dist"], dtype=np.float64),

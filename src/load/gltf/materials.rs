@@ -170,14 +170,16 @@ pub fn uv_set(m: &gltf::Material) -> u32 {
     texture_sets(m).first().map_or(0, |t| t.1)
 }
 
-/// Wrap and filter from the texture's sampler (mirrored repeat is read as repeat).
-pub(super) fn sampling(tex: &gltf::Texture) -> (Wrap, TexFilter) {
+/// Wrap along u (wrapS) and v (wrapT), and filter, from the texture's sampler (mirrored
+/// repeat is read as repeat: `unread` warns).
+pub(super) fn sampling(tex: &gltf::Texture) -> ([Wrap; 2], TexFilter) {
     use gltf::texture::{MagFilter, WrappingMode};
     let s = tex.sampler();
-    let wrap = match s.wrap_s() {
+    let mode = |m: WrappingMode| match m {
         WrappingMode::ClampToEdge => Wrap::Clamp,
         _ => Wrap::Repeat,
     };
+    let wrap = [mode(s.wrap_s()), mode(s.wrap_t())];
     let filter = match s.mag_filter() {
         Some(MagFilter::Nearest) => TexFilter::Nearest,
         _ => TexFilter::Bilinear,
@@ -191,7 +193,8 @@ fn grid<T>(img: &gltf::image::Data, texels: Vec<T>, tex: &gltf::Texture, map: Uv
         width: img.width as usize,
         height: img.height as usize,
         texels,
-        wrap,
+        wrap: wrap[0],
+        wrap_v: wrap[1],
         filter,
         map,
         source: None,
@@ -433,7 +436,9 @@ impl<'a> GltfMaterials<'a> {
         {
             warn.push(format!("{}: {label}: KHR_materials_volume is rendered thin-walled (no refraction or attenuation) unless the material has KHR_materials_dispersion", self.model.path.display()));
         }
-        let mut mat = if dispersion > 0.0 && transmission_f > 0.0 {
+        let dispersive = dispersion > 0.0 && transmission_f > 0.0;
+        super::unread::material(self.model, m, &label, dispersive, warn);
+        let mut mat = if dispersive {
             // A dispersive glass: prism's dielectric with a Cauchy index of the same Abbe
             // number; base colour tints the transmission.
             let rel = RelativeIor::new(dispersion_abbe(ior, dispersion), Ior::Constant(1.0));

@@ -14,6 +14,7 @@ mod expand;
 mod lights;
 mod materials;
 mod nodes;
+mod unread;
 
 use crate::error::InputError;
 use crate::io::input_file::{self, Kind};

@@ -235,6 +235,7 @@ fn read_primitive(
             return Ok(None);
         }
     };
+    super::unread::primitive(model, prim, &field, warnings);
     let normals: Vec<Vec3> = reader
         .read_normals()
         .map(|it| it.map(Vec3::from).collect())

@@ -91,7 +91,22 @@ pub(super) fn camera_model(
                         .hint("e.g. exposure: (iso: 100, shutter: 0.01, f_number: 8)"));
                 }
             }
-            camera::exposure_scale(e.iso as f64, e.shutter as f64, e.f_number as f64)
+            let k = camera::exposure_scale(e.iso as f64, e.shutter as f64, e.f_number as f64);
+            // Each input may be finite and the product still leave f32 (f_number 1e-21 gave
+            // Inf and NaN channels): the factor itself must lie in a range that keeps any
+            // plausible radiance finite and nonzero.
+            if !(camera::EXPOSURE_RANGE.0..=camera::EXPOSURE_RANGE.1).contains(&k) {
+                return Err(at
+                    .err(
+                        "camera.exposure",
+                        format!(
+                            "the exposure factor (iso/100) · shutter · π / (4 · f_number²) is {k:e}; it must lie in [{:e}, {:e}]",
+                            camera::EXPOSURE_RANGE.0, camera::EXPOSURE_RANGE.1
+                        ),
+                    )
+                    .hint("check iso, shutter and f_number, e.g. exposure: (iso: 100, shutter: 0.01, f_number: 8)"));
+            }
+            k
         }
     };
     let model = CameraModel {

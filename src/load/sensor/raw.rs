@@ -118,6 +118,32 @@ pub fn build(
         * (cfg.quantum_efficiency / peak)
         * 1e-9
         / H_C;
+    // The product of valid inputs can still leave f32 (f_number 1e-21: an infinite scale):
+    // the electrons per unit signal must be a normal f32 with room for any plausible radiance.
+    if !(1e-25..=1e25).contains(&scale) {
+        return Err(err(
+            "",
+            format!("the electron scale shutter · pixel area · π / (4 · f_number²) · QE / peak / (h c) is {scale:e} e⁻ per unit signal; it must lie in [1e-25, 1e25]"),
+            "check camera.exposure (shutter, f_number) and raw.pixel_pitch",
+        ));
+    }
+    let dark_e = cfg.dark_current * t;
+    if !dark_e.is_finite() {
+        return Err(err(
+            "dark_current",
+            format!("dark_current · shutter is {dark_e:e} electrons"),
+            "write a dark current in e⁻/s, e.g. dark_current: 0.1",
+        ));
+    }
+    if !(gain.is_finite() && gain <= 1e9) {
+        return Err(err(
+            "gain",
+            format!(
+                "the gain iso / unity-gain ISO is {gain:e} DN per electron; it must be at most 1e9"
+            ),
+            "raise the unity-gain ISO or give gain: PerElectron(...)",
+        ));
+    }
     let responses = curves.clone().map(|c| Response {
         shape: Shape::Photons(c),
         scale: scale as f32,
@@ -125,7 +151,7 @@ pub fn build(
     let model = RawModel {
         pattern: cfg.pattern,
         slot: 0,
-        dark_e: cfg.dark_current * t,
+        dark_e,
         full_well: cfg.full_well,
         read_noise: cfg.read_noise,
         gain,
