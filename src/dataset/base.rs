@@ -46,11 +46,13 @@ impl Base {
         let config = DatasetConfig::load(file)?;
         let dir = file.parent().unwrap_or(Path::new("."));
         let scene_file = dir.join(&config.scene);
-        if !scene_file.is_file() {
-            return Err(InputError::new(
-                file,
-                format!("the base scene `{}` does not exist", scene_file.display()),
-            )
+        // Says what the path is (missing, a directory, a FIFO, a device), without opening a FIFO.
+        let opened = crate::config::input_file::open(
+            &scene_file,
+            crate::config::input_file::Kind::Scene,
+        );
+        if let Err(m) = opened {
+            return Err(InputError::new(file, format!("the base scene: {m}"))
             .field("scene")
             .hint("give the scene file's path relative to the dataset config")
             .into());
