@@ -29,7 +29,11 @@ const SCENE: &str = r#"(film: (width: 8, height: 6), sampler: (spp: 1),
 /// Runs with a wall bound (a FIFO read would block forever): the output, or a panic naming
 /// the case if it ran past `secs`.
 fn run(mut c: Command, secs: u64, what: &str) -> Output {
-    let mut child = c.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut child = c
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
     let t = Instant::now();
     while child.try_wait().unwrap().is_none() {
         if t.elapsed() > Duration::from_secs(secs) {
@@ -80,15 +84,26 @@ fn the_sidecar_never_replaces_an_input_or_a_special_file() {
     // The scene itself named s.json: `-o s.exr` made its sidecar s.json.
     std::fs::write(d.join("s.json"), SCENE).unwrap();
     let o = render(&d, "s.json", "s.exr", &[]);
-    refused(&o, "scene s.json", &["s.json", "the scene file being rendered"]);
+    refused(
+        &o,
+        "scene s.json",
+        &["s.json", "the scene file being rendered"],
+    );
     assert_eq!(std::fs::read_to_string(d.join("s.json")).unwrap(), SCENE);
-    assert!(!d.join("s.exr").exists(), "the EXR was written before the refusal");
+    assert!(
+        !d.join("s.exr").exists(),
+        "the EXR was written before the refusal"
+    );
     // A sensor file cam.json and `-o cam.exr`.
     std::fs::write(d.join("s.ron"), SCENE).unwrap();
     let sensor = "(observer: Cie1931, rgb: [Srgb], bands: [])";
     std::fs::write(d.join("cam.json"), sensor).unwrap();
     let o = render(&d, "s.ron", "cam.exr", &["--sensor", "cam.json"]);
-    refused(&o, "sensor cam.json", &["cam.json", "a file this scene reads"]);
+    refused(
+        &o,
+        "sensor cam.json",
+        &["cam.json", "a file this scene reads"],
+    );
     assert_eq!(std::fs::read_to_string(d.join("cam.json")).unwrap(), sensor);
     // A symbolic link (and a dangling one) at OUT.json: the link is left as it is.
     std::fs::write(d.join("target.txt"), "mine").unwrap();
@@ -124,7 +139,12 @@ fn the_sidecar_never_replaces_an_input_or_a_special_file() {
 fn a_full_output_device_is_not_a_panic() {
     let d = workdir("full");
     std::fs::write(d.join("s.ron"), SCENE).unwrap();
-    let full = || std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let full = || {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap()
+    };
     let mut c = prism();
     c.current_dir(&d)
         .args(["render", "s.ron", "-o", "a.exr"])
@@ -187,7 +207,8 @@ fn dataset(dir: &Path, cfg: &str, out: &str, extra: &[&str]) -> Output {
     run(c, 120, &format!("dataset {cfg} -o {out}"))
 }
 
-const DATASET: &str = "(scene: \"s.ron\", frames: 2, seed: 1, outputs: (spp: 1, resolution: (8, 6)))";
+const DATASET: &str =
+    "(scene: \"s.ron\", frames: 2, seed: 1, outputs: (spp: 1, resolution: (8, 6)))";
 
 /// FIFOs and devices where a dataset reads a file: refused at once naming the file, not read
 /// forever (the config, the sensor file, the base scene, a hashed envmap file).
@@ -256,8 +277,11 @@ fn dataset_output_folders_of_the_wrong_shape_are_refused() {
     swap(".prism-dataset.lock", &|p| mkfifo(p));
     swap(".prism-dataset.lock", &|p| std::fs::create_dir(p).unwrap());
     // frames: 2^32 - 1 planned every frame before the first: refused at once.
-    std::fs::write(d.join("many.ron"), DATASET.replace("frames: 2", "frames: 4294967295"))
-        .unwrap();
+    std::fs::write(
+        d.join("many.ron"),
+        DATASET.replace("frames: 2", "frames: 4294967295"),
+    )
+    .unwrap();
     let o = dataset(&d, "many.ron", "many", &["--check"]);
     refused(&o, "frames 2^32-1", &["frames", "1000000"]);
     let _ = std::fs::remove_dir_all(&d);
@@ -290,10 +314,16 @@ fn forged_manifest_lines_do_not_count_as_done() {
             format!("{head}\"files\":[]{tail}")
         })
         .unwrap();
-    for (what, line) in [("another frame's files", as1.as_str()), ("no files", &empty)] {
+    for (what, line) in [
+        ("another frame's files", as1.as_str()),
+        ("no files", &empty),
+    ] {
         std::fs::write(&m, format!("{line0}{line}")).unwrap();
         let out = check(what);
-        assert!(out.contains("\"done\":[0]") && out.contains("\"todo\":[1]"), "{what}: {out}");
+        assert!(
+            out.contains("\"done\":[0]") && out.contains("\"todo\":[1]"),
+            "{what}: {out}"
+        );
     }
     // An invalid-UTF-8 line is skipped, frame 0 stays done.
     let mut bytes = line0.clone().into_bytes();
@@ -311,7 +341,9 @@ fn a_dataset_run_ended_by_sigterm_exits_143_and_leaves_no_temporaries() {
     // Frames slow enough to be interrupted mid-run (about a second each).
     std::fs::write(
         d.join("s.ron"),
-        SCENE.replace("spp: 1", "spp: 4096").replace("width: 8, height: 6", "width: 128, height: 96"),
+        SCENE
+            .replace("spp: 1", "spp: 4096")
+            .replace("width: 8, height: 6", "width: 128, height: 96"),
     )
     .unwrap();
     std::fs::write(
@@ -321,7 +353,15 @@ fn a_dataset_run_ended_by_sigterm_exits_143_and_leaves_no_temporaries() {
     .unwrap();
     let mut child = prism()
         .current_dir(&d)
-        .args(["dataset", "ds.ron", "-o", "out", "--quiet", "--threads", "1"])
+        .args([
+            "dataset",
+            "ds.ron",
+            "-o",
+            "out",
+            "--quiet",
+            "--threads",
+            "1",
+        ])
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
@@ -377,13 +417,26 @@ fn unbounded_draws_duplicate_placements_and_band_lists_are_refused() {
         "objects: (place: (support: \"ball\", shapes: [\"ball\", \"ball\"])),",
     );
     let o = dataset(&d, "twice.ron", "o2", &["--check"]);
-    refused(&o, "place twice", &["objects.place.shapes[1]", "listed twice"]);
+    refused(
+        &o,
+        "place twice",
+        &["objects.place.shapes[1]", "listed twice"],
+    );
     let boxes: Vec<String> = (0..20_000)
-        .map(|i| format!("({}, {})", 400.0 + i as f64 * 0.01, 400.0 + i as f64 * 0.01 + 0.005))
+        .map(|i| {
+            format!(
+                "({}, {})",
+                400.0 + i as f64 * 0.01,
+                400.0 + i as f64 * 0.01 + 0.005
+            )
+        })
         .collect();
     let scene = SCENE.replacen(
         "(film:",
-        &format!("(sensor: (observer: Cie1931, bands: [Boxes([{}])]), film:", boxes.join(", ")),
+        &format!(
+            "(sensor: (observer: Cie1931, bands: [Boxes([{}])]), film:",
+            boxes.join(", ")
+        ),
         1,
     );
     std::fs::write(d.join("boxes.ron"), scene).unwrap();
@@ -396,7 +449,11 @@ fn unbounded_draws_duplicate_placements_and_band_lists_are_refused() {
     std::fs::write(d.join("o3/dataset.json"), "garbage").unwrap();
     std::fs::write(d.join("ok.ron"), DATASET).unwrap();
     let o2 = dataset(&d, "ok.ron", "o3", &["--check"]);
-    refused(&o2, "garbage dataset.json", &["dataset.json", "not prism's"]);
+    refused(
+        &o2,
+        "garbage dataset.json",
+        &["dataset.json", "not prism's"],
+    );
     assert!(!stderr(&o2).contains(": null →"), "{}", stderr(&o2));
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -17,8 +17,9 @@ pub fn hashes(base: &Base) -> Result<BTreeMap<String, String>, Error> {
         let key = relative(&normal(p), &dir);
         if let std::collections::btree_map::Entry::Vacant(e) = out.entry(key) {
             let (sha, _) = super::manifest::sha256(p).map_err(|err| {
-                crate::error::InputError::new(&base.file, err)
-                    .hint("every file a dataset reads must be a regular file (not a FIFO or device)")
+                crate::error::InputError::new(&base.file, err).hint(
+                    "every file a dataset reads must be a regular file (not a FIFO or device)",
+                )
             })?;
             e.insert(sha);
         }

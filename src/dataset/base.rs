@@ -47,15 +47,13 @@ impl Base {
         let dir = file.parent().unwrap_or(Path::new("."));
         let scene_file = dir.join(&config.scene);
         // Says what the path is (missing, a directory, a FIFO, a device), without opening a FIFO.
-        let opened = crate::config::input_file::open(
-            &scene_file,
-            crate::config::input_file::Kind::Scene,
-        );
+        let opened =
+            crate::config::input_file::open(&scene_file, crate::config::input_file::Kind::Scene);
         if let Err(m) = opened {
             return Err(InputError::new(file, format!("the base scene: {m}"))
-            .field("scene")
-            .hint("give the scene file's path relative to the dataset config")
-            .into());
+                .field("scene")
+                .hint("give the scene file's path relative to the dataset config")
+                .into());
         }
         // The files the load reads (meshes, textures, spectra, the envmap), for `dataset.json`.
         let (loaded, read) = crate::scene::inputs::collect(|| -> Result<_, Error> {

@@ -269,7 +269,10 @@ impl DatasetConfig {
         let text = String::from_utf8(bytes).map_err(|e| {
             InputError::new(
                 path,
-                format!("the dataset config is not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+                format!(
+                    "the dataset config is not UTF-8 text (byte {})",
+                    e.utf8_error().valid_up_to()
+                ),
             )
             .hint("save the config as UTF-8 text")
         })?;
@@ -287,7 +290,10 @@ impl DatasetConfig {
         // Draws per frame: a keep-in-view or a placement that cannot succeed tries this often
         // for every frame before the first renders.
         let attempts = [
-            ("camera.max_attempts", config.camera.as_ref().map(|c| c.max_attempts)),
+            (
+                "camera.max_attempts",
+                config.camera.as_ref().map(|c| c.max_attempts),
+            ),
             (
                 "objects.place.max_attempts",
                 config.objects.place.as_ref().map(|p| p.max_attempts),

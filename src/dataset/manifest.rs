@@ -57,7 +57,10 @@ impl Out {
         let p = self.root.join(LOCK);
         // Opening a FIFO for writing would wait for a reader: look before opening.
         if std::fs::symlink_metadata(&p).is_ok_and(|m| !m.is_file()) {
-            return Err(folder_error(&p, "the lock file is not a regular file".into()));
+            return Err(folder_error(
+                &p,
+                "the lock file is not a regular file".into(),
+            ));
         }
         let f = std::fs::OpenOptions::new()
             .create(true)
@@ -74,16 +77,24 @@ impl Out {
     /// refused naming what changed, unless `force`, which starts the dataset over there.
     pub fn prepare(&self, identity: &Value, force: bool, config_file: &Path) -> Result<(), Error> {
         if std::fs::symlink_metadata(&self.root).is_ok_and(|m| !m.is_dir()) {
-            return Err(folder_error(&self.root, "the output folder is not a directory".into()));
+            return Err(folder_error(
+                &self.root,
+                "the output folder is not a directory".into(),
+            ));
         }
         std::fs::create_dir_all(&self.root).map_err(|e| {
             folder_error(&self.root, format!("cannot create the output folder: {e}"))
         })?;
         for (name, dir) in [(MANIFEST, false), ("frames", true), (DATASET_JSON, false)] {
             let p = self.root.join(name);
-            if std::fs::symlink_metadata(&p).is_ok_and(|m| m.is_dir() != dir || m.file_type().is_symlink()) {
+            if std::fs::symlink_metadata(&p)
+                .is_ok_and(|m| m.is_dir() != dir || m.file_type().is_symlink())
+            {
                 let what = if dir { "a directory" } else { "a regular file" };
-                return Err(folder_error(&p, format!("`{name}` in the output folder is not {what}")));
+                return Err(folder_error(
+                    &p,
+                    format!("`{name}` in the output folder is not {what}"),
+                ));
             }
         }
         let _lock = self.lock()?;
@@ -309,7 +320,8 @@ impl Out {
         let mut sums = Vec::new();
         for f in files {
             let (sha, bytes) = sha256(f).map_err(|e| {
-                InputError::new(f, e).hint("the frame's file was replaced or removed while it was listed; run again")
+                InputError::new(f, e)
+                    .hint("the frame's file was replaced or removed while it was listed; run again")
             })?;
             let rel = f.strip_prefix(&self.root).unwrap_or(f);
             sums.push(FileSum {
@@ -389,7 +401,9 @@ fn diff(a: &Value, b: &Value, path: &str, out: &mut Vec<String>) {
         }
         // The same f32 read back (configs are f32, JSON holds the f64 it widens to): no change.
         (Value::Number(x), Value::Number(y))
-            if x.as_f64().zip(y.as_f64()).is_some_and(|(u, v)| u as f32 == v as f32) => {}
+            if x.as_f64()
+                .zip(y.as_f64())
+                .is_some_and(|(u, v)| u as f32 == v as f32) => {}
         _ if a != b => {
             let short = |v: &Value| {
                 // A config's f32 as written (0.3), not as JSON's f64 holds it (0.30000001…).

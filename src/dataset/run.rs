@@ -146,9 +146,12 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         writeln!(std::io::stdout().lock(), "{line}")
             .and_then(|_| std::io::stdout().lock().flush())
             .map_err(|e| {
-                InputError::new(file, format!("cannot write the --check result to standard output: {e}"))
-                    .field("--check")
-                    .hint("send standard output to a file or pipe that can take it")
+                InputError::new(
+                    file,
+                    format!("cannot write the --check result to standard output: {e}"),
+                )
+                .field("--check")
+                .hint("send standard output to a file or pipe that can take it")
             })?;
         return Ok(Summary::default());
     }
@@ -202,7 +205,9 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
                         b.set_message(msg);
                         b.inc(1);
                     }
-                    None if !opts.quiet => crate::cli::note(format_args!("{msg} [{}/{}]", n + 1, todo.len())),
+                    None if !opts.quiet => {
+                        crate::cli::note(format_args!("{msg} [{}/{}]", n + 1, todo.len()))
+                    }
                     None => {}
                 }
             }

@@ -147,8 +147,10 @@ pub fn check_writable(path: &Path, flag: &str) -> Result<(), InputError> {
     // A link (dangling or not) would be replaced by the rename, not written through: refuse it
     // rather than guess which of the two the user meant.
     if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-        return Err(err("the output is a symbolic link; writing would replace the link".into())
-            .hint("give the path of the file itself, or remove the link"));
+        return Err(
+            err("the output is a symbolic link; writing would replace the link".into())
+                .hint("give the path of the file itself, or remove the link"),
+        );
     }
     match fs::metadata(path) {
         Ok(m) if m.is_dir() => {

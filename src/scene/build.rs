@@ -100,7 +100,9 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         "spectral.range",
         format!("the range ({lo}, {hi}) nm must be positive, increasing and end by {MAX_NM} nm"),
     )
-    .map_err(|e| e.hint("e.g. range: (360, 830) for the visible, (360, 1000) with near infrared"))?;
+    .map_err(|e| {
+        e.hint("e.g. range: (360, 830) for the visible, (360, 1000) with near infrared")
+    })?;
     let range = (lo, hi);
 
     // Camera and film.

@@ -36,12 +36,17 @@ impl At<'_> {
 pub fn read_file(path: &Path) -> Result<SensorConfig, InputError> {
     crate::scene::inputs::record(path);
     use crate::config::input_file::{self, Kind};
-    let hint = "sensor files are relative to the scene file (`--sensor` paths to the current directory)";
-    let bytes = input_file::read(path, Kind::Sensor).map_err(|e| InputError::new(path, e).hint(hint))?;
+    let hint =
+        "sensor files are relative to the scene file (`--sensor` paths to the current directory)";
+    let bytes =
+        input_file::read(path, Kind::Sensor).map_err(|e| InputError::new(path, e).hint(hint))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         InputError::new(
             path,
-            format!("the sensor file is not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+            format!(
+                "the sensor file is not UTF-8 text (byte {})",
+                e.utf8_error().valid_up_to()
+            ),
         )
         .hint("save the sensor file as UTF-8 text")
     })?;

@@ -148,7 +148,10 @@ pub fn promise(code: i32, dir: &Path, stderr: Option<&str>, before: &[&str]) -> 
                 .find_map(|l| l.strip_prefix("error: "))
                 .is_some_and(|m| m.starts_with('/'));
             if !named {
-                return Some(format!("exit 2 without a message naming a file: {}", tail(err)));
+                return Some(format!(
+                    "exit 2 without a message naming a file: {}",
+                    tail(err)
+                ));
             }
         }
         return None;
@@ -169,7 +172,8 @@ pub fn present(dir: &Path) -> Vec<&'static str> {
         .collect()
 }
 
-/// The first channel of an EXR holding a NaN or an infinity, or a failure to read it.
+/// The first channel of an EXR holding a NaN or an infinity (but the documented +inf of
+/// `depth` and `distance` on the background), or a failure to read it.
 pub fn non_finite(exr: &Path) -> Option<String> {
     use exr::prelude::FlatSamples;
     let img = match exr::prelude::read_all_flat_layers_from_file(exr) {
@@ -178,9 +182,13 @@ pub fn non_finite(exr: &Path) -> Option<String> {
     };
     for layer in &img.layer_data {
         for ch in &layer.channel_data.list {
+            // `depth` and `distance` are +inf where no surface is hit (scenes/README.md, AOVs).
+            let name = ch.name.to_string();
+            let far = name.starts_with("depth.") || name.starts_with("distance.");
+            let ok = |x: f32| x.is_finite() || (far && x == f32::INFINITY);
             let bad = match &ch.sample_data {
-                FlatSamples::F16(v) => v.iter().position(|x| !x.to_f32().is_finite()),
-                FlatSamples::F32(v) => v.iter().position(|x| !x.is_finite()),
+                FlatSamples::F16(v) => v.iter().position(|x| !ok(x.to_f32())),
+                FlatSamples::F32(v) => v.iter().position(|&x| !ok(x)),
                 FlatSamples::U32(_) => None,
             };
             if let Some(i) = bad {

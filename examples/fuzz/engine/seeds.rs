@@ -185,7 +185,9 @@ fn sensor_seeds(repo: &Path, host: &dyn Fn(&str) -> String, out: &mut Vec<SeedFi
             kind: FileKind::Sensor,
             name: "sensor.ron".into(),
             bytes: std::fs::read(&p).unwrap(),
-            host: host(&format!("spectral: (range: (360, 1000)), sensor: File(\"@CASE@/sensor.ron\"), {LIT}")),
+            host: host(&format!(
+                "spectral: (range: (360, 1000)), sensor: File(\"@CASE@/sensor.ron\"), {LIT}"
+            )),
         });
     }
 }

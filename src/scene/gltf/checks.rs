@@ -307,7 +307,10 @@ fn check_strides(path: &Path, json: &Value) -> Result<(), InputError> {
             .get("bufferView")
             .and_then(Value::as_u64)
             .and_then(|k| views?.get(k as usize));
-        let Some(stride) = view.and_then(|v| v.get("byteStride")).and_then(Value::as_u64) else {
+        let Some(stride) = view
+            .and_then(|v| v.get("byteStride"))
+            .and_then(Value::as_u64)
+        else {
             continue;
         };
         let size = match a.get("componentType").and_then(Value::as_u64) {

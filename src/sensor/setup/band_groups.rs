@@ -59,7 +59,10 @@ pub(super) fn spectral_bands(
         .sum();
     if listed > MAX_LISTED {
         return Err(at
-            .err("bands", format!("{listed} Box, Boxes and Filter bands: more than {MAX_LISTED}"))
+            .err(
+                "bands",
+                format!("{listed} Box, Boxes and Filter bands: more than {MAX_LISTED}"),
+            )
             .hint("use an Even group for a fine grid of bands (up to 4096)"));
     }
     for (g, group) in groups.iter().enumerate() {
@@ -89,9 +92,9 @@ pub(super) fn spectral_bands(
                     return Err(at.err(&rf, format!("the band range ({blo}, {bhi}) nm must be increasing and inside the spectral range ({lo}, {hi}) nm")));
                 }
                 if n > 4096 {
-                    return Err(at
-                        .err(&cf, "more than 4096 spectral bands")
-                        .hint("give at most 4096 bands, e.g. count: 471 for 1 nm over 360–830 nm"));
+                    return Err(at.err(&cf, "more than 4096 spectral bands").hint(
+                        "give at most 4096 bands, e.g. count: 471 for 1 nm over 360–830 nm",
+                    ));
                 }
                 even = Some(Bands {
                     lo: blo,
