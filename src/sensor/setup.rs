@@ -38,8 +38,9 @@ pub fn read_file(path: &Path) -> Result<SensorConfig, InputError> {
     use crate::config::input_file::{self, Kind};
     let hint =
         "sensor files are relative to the scene file (`--sensor` paths to the current directory)";
-    let bytes =
-        input_file::read(path, Kind::Sensor).map_err(|e| InputError::new(path, e).hint(hint))?;
+    let bytes = input_file::read(path, Kind::Sensor).map_err(|e| {
+        InputError::new(path, format!("cannot read the sensor file: {e}")).hint(hint)
+    })?;
     let text = String::from_utf8(bytes).map_err(|e| {
         InputError::new(
             path,
