@@ -126,6 +126,8 @@ pub enum Switch {
     Off,
 }
 
+pub use crate::error::note;
+
 /// Runs the CLI; returns the process exit code.
 pub fn main() -> i32 {
     run(std::env::args_os())
@@ -160,7 +162,7 @@ where
     match result {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("error: {e}");
+            note(format_args!("error: {e}"));
             e.exit_code()
         }
     }
@@ -230,9 +232,16 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     })?;
     let load_s = t_load.elapsed().as_secs_f64();
     for w in &job.warnings {
-        eprintln!("warning: {w}");
+        note(format_args!("warning: {w}"));
     }
     output::guard::check_output(&out, "-o", &job.inputs)?;
+    // The sidecar is an output too: `-o s.exr` would write `s.json` over a scene or sensor
+    // file of that name.
+    output::guard::check_output(
+        &output::sidecar::path_for(&out),
+        "-o (its sidecar .json)",
+        &job.inputs,
+    )?;
     if let Some(p) = &args.preview {
         output::guard::check_output(p, "--preview", &job.inputs)?;
         if !(job
@@ -266,7 +275,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     crate::pipeline::write(&job, &r, &files)?;
     let (stats, render_s) = (&r.stats, r.seconds);
     let msps = stats.samples as f64 / render_s / 1e6;
-    eprintln!(
+    note(format_args!(
         "rendered {}x{} at {} spp ({:.1} Msamples) in {:.2} s ({:.2} Msamples/s, {} thread{}); scene load {:.2} s; {} invalid samples{} -> {}",
         s.width,
         s.height,
@@ -283,7 +292,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
             None => String::new(),
         },
         out.display()
-    );
+    ));
     Ok(())
 }
 

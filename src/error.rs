@@ -97,3 +97,10 @@ impl Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Writes a line to stderr, ignoring a failure (`2>/dev/full`, a closed pipe): the exit code
+/// still tells the outcome, where `eprintln!` would panic.
+pub fn note(line: std::fmt::Arguments) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}

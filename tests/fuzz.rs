@@ -29,7 +29,7 @@ fn work(name: &str) -> PathBuf {
 }
 
 #[test]
-fn oracle_flags_panics_hangs_signals_and_wrong_exit_codes() {
+fn oracle_flags_panics_hangs_signals_wrong_exit_codes_and_broken_promises() {
     let dir = work("oracle");
     std::fs::create_dir_all(&dir).unwrap();
     let limits = engine::Limits {
@@ -39,6 +39,21 @@ fn oracle_flags_panics_hangs_signals_and_wrong_exit_codes() {
     };
     let scene = dir.join("scene.ron");
     std::fs::write(&scene, "()").unwrap();
+    // EXRs a stand-in renders: all finite, and one NaN in the G channel of pixel (1, 0).
+    let exr = |name: &str, bad: f32| {
+        let p = dir.join(name);
+        exr::prelude::write_rgb_file(&p, 2, 2, |x, y| {
+            (1.0f32, if (x, y) == (1, 0) { bad } else { 0.5 }, 0.25)
+        })
+        .unwrap();
+        p.display().to_string()
+    };
+    let (good, nan) = (exr("good.exr", 0.5), exr("nan.exr", f32::NAN));
+    // $2 is the scene and $4 the EXR path of the oracle's arguments.
+    let wrote = |src: &str| format!("cp {src} \"$4\"; echo {{}} > \"${{4%.exr}}.json\"; exit 0");
+    let refused = "echo \"error: $2: bad\" >&2; exit 2";
+    let (wrote_good, wrote_nan) = (wrote(&good), wrote(&nan));
+    let left = format!("touch \"$4\"; {refused}");
     let cases = [
         (
             "echo \"thread 'main' panicked at x\" >&2; exit 101",
@@ -51,8 +66,13 @@ fn oracle_flags_panics_hangs_signals_and_wrong_exit_codes() {
         ("while :; do :; done", "hang"),
         ("kill -SEGV $$", "signal"),
         ("exit 1", "wrong-exit"),
-        ("exit 2", "ok"),
-        ("exit 0", "ok"),
+        (refused, "ok"),
+        (&wrote_good, "ok"),
+        // The promises of exit 0 and 2 (oracle::promise).
+        ("echo 'error: bad input' >&2; exit 2", "broken"),
+        (&left, "broken"),
+        ("exit 0", "broken"),
+        (&wrote_nan, "broken"),
     ];
     for (i, (body, want)) in cases.iter().enumerate() {
         let fake = dir.join(format!("fake{i}.sh"));
@@ -64,6 +84,9 @@ fn oracle_flags_panics_hangs_signals_and_wrong_exit_codes() {
             timeout: Duration::from_secs(if busy { 60 } else { 1 }),
             ..limits
         };
+        for n in engine::OUTPUTS {
+            let _ = std::fs::remove_file(dir.join(n));
+        }
         let start = std::time::Instant::now();
         let (v, _) = engine::run_binary(&fake, &scene, &dir, &limits);
         assert_eq!(v.label(), *want, "`{body}` gave {v:?}");

@@ -17,7 +17,11 @@ pub fn hashes(base: &Base) -> Result<BTreeMap<String, String>, Error> {
     for p in &base.inputs {
         let key = relative(&normal(p), &dir);
         if let std::collections::btree_map::Entry::Vacant(e) = out.entry(key) {
-            let (sha, _) = super::manifest::sha256(p).map_err(|err| Error::io(p, err))?;
+            let (sha, _) = super::manifest::sha256(p).map_err(|err| {
+                crate::error::InputError::new(&base.file, err).hint(
+                    "every file a dataset reads must be a regular file (not a FIFO or device)",
+                )
+            })?;
             e.insert(sha);
         }
     }

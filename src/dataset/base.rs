@@ -55,14 +55,13 @@ impl Base {
         let config = DatasetConfig::load(file)?;
         let dir = file.parent().unwrap_or(Path::new("."));
         let scene_file = dir.join(&config.scene);
-        if !scene_file.is_file() {
-            return Err(InputError::new(
-                file,
-                format!("the base scene `{}` does not exist", scene_file.display()),
-            )
-            .field("scene")
-            .hint("give the scene file's path relative to the dataset config")
-            .into());
+        // Says what the path is (missing, a directory, a FIFO, a device), without opening a FIFO.
+        let opened = crate::io::input_file::open(&scene_file, crate::io::input_file::Kind::Scene);
+        if let Err(m) = opened {
+            return Err(InputError::new(file, format!("the base scene: {m}"))
+                .field("scene")
+                .hint("give the scene file's path relative to the dataset config")
+                .into());
         }
         // `outputs.aovs` names AOVs the scene build then makes for every frame.
         for (i, n) in config.outputs.aovs.iter().flatten().enumerate() {

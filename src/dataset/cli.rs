@@ -45,6 +45,8 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
         .transpose()?;
     let shard = shard(args, &|k| std::env::var(k).ok())?;
     let pool = crate::pipeline::worker_pool(args.workers.threads, &args.config)?;
+    // SIGINT/SIGTERM: remove the temporaries being written, exit 130/143.
+    crate::output::interrupt::install();
     let opts = Options {
         frames,
         shard,

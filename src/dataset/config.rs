@@ -264,14 +264,71 @@ pub struct Placement {
     pub max_attempts: u32,
 }
 
+/// The most frames one dataset config may have (each is planned before the first renders).
+pub const MAX_FRAMES: u32 = 1_000_000;
+
+/// The most draws `max_attempts` may allow per frame.
+pub const MAX_ATTEMPTS: u32 = 10_000;
+
 impl DatasetConfig {
     /// Reads and parses a dataset config file (syntax errors with line and column).
     pub fn load(path: &Path) -> Result<DatasetConfig, Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            InputError::new(path, format!("cannot read the dataset config: {e}"))
-                .hint("check the path")
+        use crate::io::input_file::{self, Kind};
+        let bytes = input_file::read(path, Kind::Dataset)
+            .map_err(|e| InputError::new(path, e).hint("check the path"))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            InputError::new(
+                path,
+                format!(
+                    "the dataset config is not UTF-8 text (byte {})",
+                    e.utf8_error().valid_up_to()
+                ),
+            )
+            .hint("save the config as UTF-8 text")
         })?;
-        Ok(Self::parse(&text, path)?)
+        let config = Self::parse(&text, path)?;
+        // Every frame is planned (and listed) before the first renders: bound the list.
+        if config.frames == 0 || config.frames > MAX_FRAMES {
+            return Err(InputError::new(
+                path,
+                format!("frames: {} must lie in 1..={MAX_FRAMES}", config.frames),
+            )
+            .field("frames")
+            .hint("split a larger dataset into several configs with different seeds")
+            .into());
+        }
+        // Draws per frame: a keep-in-view or a placement that cannot succeed tries this often
+        // for every frame before the first renders.
+        let attempts = [
+            (
+                "camera.max_attempts",
+                config.camera.as_ref().map(|c| c.max_attempts),
+            ),
+            (
+                "objects.place.max_attempts",
+                config.objects.place.as_ref().map(|p| p.max_attempts),
+            ),
+        ];
+        for (field, n) in attempts {
+            if let Some(n) = n.filter(|&n| n == 0 || n > MAX_ATTEMPTS) {
+                return Err(InputError::new(path, format!("{n} must lie in 1..={MAX_ATTEMPTS}"))
+                    .field(field)
+                    .hint("a draw that fails 100 times (the default) rarely succeeds later: relax keep_in_view, the ranges or the placement instead")
+                    .into());
+            }
+        }
+        // A shape placed twice would be moved twice: the position recorded is not where it is.
+        if let Some(p) = &config.objects.place {
+            for (i, n) in p.shapes.iter().enumerate() {
+                if p.shapes[..i].contains(n) {
+                    return Err(InputError::new(path, format!("\"{n}\" is listed twice"))
+                        .field(format!("objects.place.shapes[{i}]"))
+                        .hint("list each shape to place once")
+                        .into());
+                }
+            }
+        }
+        Ok(config)
     }
 
     pub fn parse(text: &str, file: &Path) -> Result<DatasetConfig, InputError> {

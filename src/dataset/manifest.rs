@@ -10,7 +10,6 @@ use crate::error::{Error, InputError};
 use fs4::fs_std::FileExt;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::io::{BufRead, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
@@ -56,13 +55,20 @@ impl Out {
 
     pub fn lock(&self) -> Result<Lock, Error> {
         let p = self.root.join(LOCK);
+        // Opening a FIFO for writing would wait for a reader: look before opening.
+        if std::fs::symlink_metadata(&p).is_ok_and(|m| !m.is_file()) {
+            return Err(folder_error(
+                &p,
+                "the lock file is not a regular file".into(),
+            ));
+        }
         let f = std::fs::OpenOptions::new()
             .create(true)
             .truncate(false)
             .write(true)
             .open(&p)
-            .map_err(|e| Error::io(&p, e))?;
-        FileExt::lock_exclusive(&f).map_err(|e| Error::io(&p, e))?;
+            .map_err(|e| folder_error(&p, format!("cannot open the lock file: {e}")))?;
+        FileExt::lock_exclusive(&f).map_err(|e| folder_error(&p, format!("cannot lock: {e}")))?;
         Ok(Lock(f))
     }
 
@@ -70,7 +76,27 @@ impl Out {
     /// folder gets it; one holding the same dataset is resumed; one holding another dataset is
     /// refused naming what changed, unless `force`, which starts the dataset over there.
     pub fn prepare(&self, identity: &Value, force: bool, config_file: &Path) -> Result<(), Error> {
-        std::fs::create_dir_all(&self.root).map_err(|e| Error::io(&self.root, e))?;
+        if std::fs::symlink_metadata(&self.root).is_ok_and(|m| !m.is_dir()) {
+            return Err(folder_error(
+                &self.root,
+                "the output folder is not a directory".into(),
+            ));
+        }
+        std::fs::create_dir_all(&self.root).map_err(|e| {
+            folder_error(&self.root, format!("cannot create the output folder: {e}"))
+        })?;
+        for (name, dir) in [(MANIFEST, false), ("frames", true), (DATASET_JSON, false)] {
+            let p = self.root.join(name);
+            if std::fs::symlink_metadata(&p)
+                .is_ok_and(|m| m.is_dir() != dir || m.file_type().is_symlink())
+            {
+                let what = if dir { "a directory" } else { "a regular file" };
+                return Err(folder_error(
+                    &p,
+                    format!("`{name}` in the output folder is not {what}"),
+                ));
+            }
+        }
         let _lock = self.lock()?;
         let path = self.root.join(DATASET_JSON);
         let text = serde_json::to_string_pretty(identity).expect("JSON values serialise") + "\n";
@@ -85,6 +111,18 @@ impl Out {
                 return self.compact();
             }
             if !force {
+                if !old.is_object() {
+                    return Err(InputError::new(
+                        config_file,
+                        format!(
+                            "the output folder `{}` has a {DATASET_JSON} that is not prism's (it does not parse as one)",
+                            self.root.display()
+                        ),
+                    )
+                    .field("-o")
+                    .hint("choose a new output folder, or pass --force to start this dataset over in it")
+                    .into());
+                }
                 let mut changes = Vec::new();
                 diff(&old, identity, "", &mut changes);
                 let more = changes.len().saturating_sub(6);
@@ -131,17 +169,24 @@ impl Out {
         crate::output::write_atomic(&m, |tmp| std::fs::write(tmp, "").map_err(|e| e.to_string()))
     }
 
-    /// Every manifest line that parses, in order, whether or not its files are intact.
-    fn lines(&self) -> Result<Vec<Entry>, Error> {
+    /// The manifest's bytes (none if it is missing), read through the input-file checks: a
+    /// FIFO or device there is refused, not read forever.
+    fn raw(&self) -> Result<Vec<u8>, Error> {
+        use crate::io::input_file::{self, Kind};
         let p = self.root.join(MANIFEST);
-        let text = match std::fs::read_to_string(&p) {
-            Ok(t) => t,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
-            Err(e) => return Err(Error::io(&p, e)),
-        };
-        Ok(text
-            .lines()
-            .filter_map(|l| serde_json::from_str::<Entry>(l).ok())
+        if std::fs::symlink_metadata(&p).is_err() {
+            return Ok(Vec::new());
+        }
+        input_file::read(&p, Kind::Manifest).map_err(|e| folder_error(&p, e))
+    }
+
+    /// Every manifest line that parses, in order, whether or not its files are intact. A line
+    /// that does not parse (torn, or not UTF-8) is skipped.
+    fn lines(&self) -> Result<Vec<Entry>, Error> {
+        Ok(self
+            .raw()?
+            .split(|&b| b == b'\n')
+            .filter_map(|l| serde_json::from_slice::<Entry>(l).ok())
             .collect())
     }
 
@@ -154,11 +199,11 @@ impl Out {
             frame: u32,
         }
         let p = self.root.join(MANIFEST);
-        let f = match std::fs::File::open(&p) {
-            Ok(f) => f,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
-            Err(e) => return Err(Error::io(&p, e)),
-        };
+        if std::fs::symlink_metadata(&p).is_err() {
+            return Ok(false);
+        }
+        let f = crate::io::input_file::open(&p, crate::io::input_file::Kind::Manifest)
+            .map_err(|e| folder_error(&p, e))?;
         let mut r = std::io::BufReader::new(f);
         let mut line = Vec::new();
         loop {
@@ -181,11 +226,21 @@ impl Out {
         }
     }
 
-    /// Whether every file of `e` is there with its checksum.
+    /// Whether `e` lists its own frame's files, the EXR among them, each there with its
+    /// checksum. A line naming another frame's files, or none, is not this frame's record.
     pub fn intact(&self, e: &Entry) -> bool {
-        e.files.iter().all(|f| {
-            sha256(&self.root.join(&f.path)).is_ok_and(|(s, n)| s == f.sha256 && n == f.bytes)
-        })
+        let own = format!("frames/{:06}.", e.frame);
+        let named = |f: &FileSum| {
+            f.path
+                .strip_prefix(&own)
+                .is_some_and(|ext| !ext.is_empty() && !ext.contains(['/', '\\']))
+        };
+        e.files.iter().any(|f| named(f) && f.path.ends_with(".exr"))
+            && e.files.iter().all(|f| {
+                named(f)
+                    && sha256(&self.root.join(&f.path))
+                        .is_ok_and(|(s, n)| s == f.sha256 && n == f.bytes)
+            })
     }
 
     /// The finished frames: listed, with intact files (the first such line per frame).
@@ -208,7 +263,7 @@ impl Out {
     /// (a torn last line after a crash, a frame whose files were damaged). Call under the lock.
     fn compact(&self) -> Result<(), Error> {
         let p = self.root.join(MANIFEST);
-        let raw = std::fs::read_to_string(&p).unwrap_or_default();
+        let raw = String::from_utf8_lossy(&self.raw()?).into_owned();
         let done = self.done()?;
         let keep: Vec<String> = done
             .values()
@@ -269,7 +324,10 @@ impl Out {
     ) -> Result<Entry, Error> {
         let mut sums = Vec::new();
         for f in files {
-            let (sha, bytes) = sha256(f).map_err(|e| Error::io(f, e))?;
+            let (sha, bytes) = sha256(f).map_err(|e| {
+                InputError::new(f, e)
+                    .hint("the frame's file was replaced or removed while it was listed; run again")
+            })?;
             let rel = f.strip_prefix(&self.root).unwrap_or(f);
             sums.push(FileSum {
                 path: rel.to_string_lossy().replace('\\', "/"),
@@ -286,10 +344,19 @@ impl Out {
     }
 }
 
-/// SHA-256 (hex) and size of a file.
-pub fn sha256(path: &Path) -> std::io::Result<(String, u64)> {
-    let bytes = std::fs::read(path)?;
-    Ok((hex(&Sha256::digest(&bytes)), bytes.len() as u64))
+/// An unusable output folder (or a file in it): the user's to fix, exit 2.
+fn folder_error(path: &Path, message: String) -> Error {
+    InputError::new(path, message)
+        .field("-o")
+        .hint("give a new or empty folder prism can write (prism makes frames/, manifest.jsonl, dataset.json and a lock file in it)")
+        .into()
+}
+
+/// SHA-256 (hex) and size of a file: a regular file within the input-file limit, streamed
+/// (config/input_file.rs); the error names the file and what it is.
+pub fn sha256(path: &Path) -> Result<(String, u64), String> {
+    use crate::io::input_file::{self, Kind};
+    input_file::sha256(path, Kind::Asset)
 }
 
 pub fn hex(b: &[u8]) -> String {
@@ -337,9 +404,18 @@ fn diff(a: &Value, b: &Value, path: &str, out: &mut Vec<String>) {
                 diff(u, v, &format!("{path}[{i}]"), out);
             }
         }
+        // The same f32 read back (configs are f32, JSON holds the f64 it widens to): no change.
+        (Value::Number(x), Value::Number(y))
+            if x.as_f64()
+                .zip(y.as_f64())
+                .is_some_and(|(u, v)| u as f32 == v as f32) => {}
         _ if a != b => {
             let short = |v: &Value| {
-                let s = v.to_string();
+                // A config's f32 as written (0.3), not as JSON's f64 holds it (0.30000001…).
+                let s = match v.as_f64() {
+                    Some(x) if v.is_f64() && (x as f32) as f64 == x => (x as f32).to_string(),
+                    _ => v.to_string(),
+                };
                 if s.chars().count() > 40 {
                     format!("{}…", s.chars().take(40).collect::<String>())
                 } else {

@@ -143,11 +143,11 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
             )
             .map_err(|e| e.to_string())
         })?;
-        eprintln!(
+        crate::error::note(format_args!(
             "wrote {}; `prism render {} -o frame.exr` renders frame {i}",
             path.display(),
             path.display()
-        );
+        ));
         return Ok(Summary::default());
     }
 
@@ -163,17 +163,33 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
             .copied()
             .filter(|i| !todo.contains(i))
             .collect();
-        println!(
-            "{}",
-            json!({"frames": base.config.frames, "done": done, "todo": todo})
-        );
+        // The JSON is the command's result: failing to write it (`>/dev/full`) is an error.
+        use std::io::Write;
+        let line = json!({"frames": base.config.frames, "done": done, "todo": todo});
+        writeln!(std::io::stdout().lock(), "{line}")
+            .and_then(|_| std::io::stdout().lock().flush())
+            .map_err(|e| {
+                InputError::new(
+                    file,
+                    format!("cannot write the --check result to standard output: {e}"),
+                )
+                .field("--check")
+                .hint("send standard output to a file or pipe that can take it")
+            })?;
         return Ok(Summary::default());
     }
     let mut summary = Summary {
         skipped: (frames.len() - todo.len()) as u32,
         ..Summary::default()
     };
-    std::fs::create_dir_all(out.frames_dir()).map_err(|e| Error::io(&out.frames_dir(), e))?;
+    std::fs::create_dir_all(out.frames_dir()).map_err(|e| {
+        InputError::new(
+            &out.frames_dir(),
+            format!("cannot create the frames folder: {e}"),
+        )
+        .field("-o")
+        .hint("give an output folder prism can write")
+    })?;
     let bar = progress(todo.len() as u64, opts.quiet);
     let preview = base
         .config
@@ -212,7 +228,9 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
                         b.set_message(msg);
                         b.inc(1);
                     }
-                    None if !opts.quiet => eprintln!("{msg} [{}/{}]", n + 1, todo.len()),
+                    None if !opts.quiet => {
+                        crate::error::note(format_args!("{msg} [{}/{}]", n + 1, todo.len()))
+                    }
                     None => {}
                 }
             }
@@ -221,7 +239,7 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
                 let line = format!("error: frame {i}: {e}");
                 match &bar {
                     Some(b) => b.println(line),
-                    None => eprintln!("{line}"),
+                    None => crate::error::note(format_args!("{line}")),
                 }
             }
         }
@@ -237,10 +255,10 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         .filter(|p| preview.is_some() && p.is_file())
         .collect();
     if let Some(p) = super::sheet::write(&pngs, &out.root.join("contact_sheet.png"))? {
-        eprintln!("contact sheet: {}", p.display());
+        crate::error::note(format_args!("contact sheet: {}", p.display()));
     }
     summary.seconds = t0.elapsed().as_secs_f64();
-    eprintln!(
+    crate::error::note(format_args!(
         "dataset: {} frame(s) selected: {} rendered, {} skipped (already done), {} failed, in {:.2} s (geometry built {} time(s)) -> {}",
         frames.len(),
         summary.rendered,
@@ -249,7 +267,7 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         summary.seconds,
         cache.builds,
         out.root.display()
-    );
+    ));
     Ok(summary)
 }
 

@@ -20,6 +20,14 @@ pub enum Kind {
     Texture,
     /// A `.gltf` or `.glb` file, or an external buffer (`.bin`) it names.
     Gltf,
+    /// A sensor file (`--sensor`, `sensor: File(...)`, a dataset's `sensor.files`).
+    Sensor,
+    /// A dataset config (`prism dataset CONFIG`).
+    Dataset,
+    /// A dataset's `manifest.jsonl` (a line per frame: long datasets make it long).
+    Manifest,
+    /// Any other file a dataset hashes: its scene's assets, envmap files, its frames' outputs.
+    Asset,
 }
 
 const MIB: u64 = 1 << 20;
@@ -33,6 +41,9 @@ impl Kind {
             Kind::Mesh => 4096 * MIB,
             Kind::Texture => 1024 * MIB,
             Kind::Gltf => 4096 * MIB,
+            Kind::Sensor => 16 * MIB,
+            Kind::Dataset => 64 * MIB,
+            Kind::Manifest | Kind::Asset => 4096 * MIB,
         }
     }
 
@@ -43,6 +54,10 @@ impl Kind {
             Kind::Mesh => "mesh file",
             Kind::Texture => "image file",
             Kind::Gltf => "glTF file",
+            Kind::Sensor => "sensor file",
+            Kind::Dataset => "dataset config",
+            Kind::Manifest => "manifest",
+            Kind::Asset => "input file",
         }
     }
 }
@@ -84,6 +99,21 @@ pub fn read(path: &Path, kind: Kind) -> Result<Vec<u8>, String> {
         return Err(too_large(path, kind, bytes.len() as u64));
     }
     Ok(bytes)
+}
+
+/// The SHA-256 (hex) and size of `path` (see `open`), read in blocks: a multi-GiB asset is
+/// hashed in constant memory, and a FIFO or device is refused instead of read forever.
+pub fn sha256(path: &Path, kind: Kind) -> Result<(String, u64), String> {
+    use sha2::{Digest, Sha256};
+    let file = open(path, kind)?;
+    let mut h = Sha256::new();
+    let n = std::io::copy(&mut file.take(kind.limit() + 1), &mut h)
+        .map_err(|e| format!("cannot read the {} `{}`: {e}", kind.noun(), path.display()))?;
+    if n > kind.limit() {
+        return Err(too_large(path, kind, n));
+    }
+    let hex: String = h.finalize().iter().map(|x| format!("{x:02x}")).collect();
+    Ok((hex, n))
 }
 
 fn check(meta: &std::fs::Metadata, path: &Path, kind: Kind) -> Result<(), String> {

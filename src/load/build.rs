@@ -56,6 +56,10 @@ pub fn load_str(text: &str, file: &Path) -> Result<Job, Error> {
     Ok(build(cfg, file)?)
 }
 
+/// The longest wavelength a spectral range may reach, nm (100 µm: far infrared, beyond any
+/// camera's response).
+pub const MAX_NM: f32 = 1e5;
+
 /// Builds a job from a parsed config.
 pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let mut warnings = Vec::new();
@@ -72,12 +76,17 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         ),
     )?;
     let (lo, hi) = sp.range;
+    // The upper bound keeps every table over the range (sensor curves, sampling pdfs, 0.05 nm
+    // integration cells) bounded: a range to 1e9 nm made them run for hours.
     check(
-        lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi,
+        lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi && hi <= MAX_NM,
         file,
         "spectral.range",
-        format!("the range ({lo}, {hi}) nm must be positive and increasing"),
-    )?;
+        format!("the range ({lo}, {hi}) nm must be positive, increasing and end by {MAX_NM} nm"),
+    )
+    .map_err(|e| {
+        e.hint("e.g. range: (360, 830) for the visible, (360, 1000) with near infrared")
+    })?;
     let range = (lo, hi);
 
     // Camera and film.

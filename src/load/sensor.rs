@@ -36,9 +36,21 @@ impl At<'_> {
 /// Reads a sensor file (RON, a `SensorConfig`).
 pub fn read_file(path: &Path) -> Result<SensorConfig, InputError> {
     crate::io::inputs::record(path);
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        InputError::new(path, format!("cannot read the sensor file: {e}"))
-            .hint("sensor files are relative to the scene file (`--sensor` paths to the current directory)")
+    use crate::io::input_file::{self, Kind};
+    let hint =
+        "sensor files are relative to the scene file (`--sensor` paths to the current directory)";
+    let bytes = input_file::read(path, Kind::Sensor).map_err(|e| {
+        InputError::new(path, format!("cannot read the sensor file: {e}")).hint(hint)
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        InputError::new(
+            path,
+            format!(
+                "the sensor file is not UTF-8 text (byte {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+        .hint("save the sensor file as UTF-8 text")
     })?;
     let opts =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);

@@ -144,6 +144,14 @@ pub fn check_output(path: &Path, flag: &str, inputs: &[PathBuf]) -> Result<(), I
 /// regular file, and a temporary can be created (and is removed again) in its directory.
 pub fn check_writable(path: &Path, flag: &str) -> Result<(), InputError> {
     let err = |m: String| InputError::new(path, m).field(flag);
+    // A link (dangling or not) would be replaced by the rename, not written through: refuse it
+    // rather than guess which of the two the user meant.
+    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return Err(
+            err("the output is a symbolic link; writing would replace the link".into())
+                .hint("give the path of the file itself, or remove the link"),
+        );
+    }
     match fs::metadata(path) {
         Ok(m) if m.is_dir() => {
             return Err(err("the output is a directory".into())

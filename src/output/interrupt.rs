@@ -35,7 +35,9 @@ pub fn install() {
                     let _ = std::fs::remove_file(t);
                 }
                 let name = if sig == SIGINT { "SIGINT" } else { "SIGTERM" };
-                eprintln!("\nerror: interrupted by {name}; no unfinished output file left behind");
+                crate::error::note(format_args!(
+                    "\nerror: interrupted by {name}; no unfinished output file left behind"
+                ));
                 std::process::exit(128 + sig);
             }
         });

@@ -77,7 +77,10 @@ impl Reporter {
         } else if !self.quiet {
             let step = |v: u64| v * 10 / self.total.max(1);
             if step(now) > step(before) {
-                eprintln!("progress: {:3}%  {msps:.2} Msamples/s", step(now) * 10);
+                crate::error::note(format_args!(
+                    "progress: {:3}%  {msps:.2} Msamples/s",
+                    step(now) * 10
+                ));
             }
         }
     }

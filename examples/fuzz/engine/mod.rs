@@ -19,8 +19,8 @@ mod seeds;
 pub use mutate::make_case;
 #[allow(unused_imports)]
 pub use oracle::{
-    install_panic_hook, load_corpus_case, materialise, run_binary, run_in_process, save_finding,
-    Limits, LIMITS,
+    install_panic_hook, load_corpus_case, materialise, non_finite, present, promise, run_binary,
+    run_in_process, save_finding, Limits, LIMITS, OUTPUTS,
 };
 pub use seeds::load_seeds;
 
@@ -33,6 +33,8 @@ pub enum FileKind {
     Spectrum,
     /// A glTF 2.0 scene: JSON `.gltf` (text mutations too) or the binary `.glb` container.
     Gltf,
+    /// A sensor file (configs/sensors/*.ron: observers, bands, cameras, the raw model).
+    Sensor,
 }
 
 /// A seed scene: its name and text with every relative path made `@REPO@/...`, the film shrunk
@@ -75,6 +77,9 @@ pub enum Verdict {
     WrongExit(i32, String),
     Signal(String),
     Hang,
+    /// Exit 0 or 2 without what it promises (oracle::promise): an output left by a refusal, a
+    /// refusal naming no file, a render with a non-finite pixel.
+    Broken(String),
 }
 
 impl Verdict {
@@ -88,6 +93,7 @@ impl Verdict {
             Verdict::WrongExit(..) => "wrong-exit",
             Verdict::Signal(_) => "signal",
             Verdict::Hang => "hang",
+            Verdict::Broken(_) => "broken",
         }
     }
 }

@@ -352,8 +352,10 @@ pub fn make_case(seeds: &Seeds, seed: u64, index: u64) -> Case {
         let f = r.pick(&seeds.files).clone();
         what.push(format!("{:?} {}", f.kind, f.name));
         let mut bytes = f.bytes.clone();
-        let texty =
-            matches!(f.kind, FileKind::Spectrum | FileKind::Mesh) || f.name.ends_with(".gltf");
+        let texty = matches!(
+            f.kind,
+            FileKind::Spectrum | FileKind::Mesh | FileKind::Sensor
+        ) || f.name.ends_with(".gltf");
         for _ in 0..steps {
             let text = if texty && r.chance(0.6) {
                 String::from_utf8(bytes.clone()).ok()

@@ -67,6 +67,7 @@ fn args(scene: &Path, dir: &Path, limits: &Limits) -> Vec<String> {
 
 /// Runs the prism binary `bin` on the case in `dir`, under the limits.
 pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Verdict, String) {
+    let before = present(dir);
     let mut child = Command::new("prlimit")
         .arg(format!("--as={}", limits.address_space))
         // Soft limit first: SIGXCPU (below), a second later the hard limit's SIGKILL.
@@ -107,7 +108,10 @@ pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Ver
         None => Verdict::Hang,
         Some(st) => match st.code() {
             _ if err.contains("panicked") => Verdict::Panic(tail(&err)),
-            Some(c @ (0 | 2)) => Verdict::Ok(c),
+            Some(c @ (0 | 2)) => match promise(c, dir, Some(&err), &before) {
+                Some(broken) => Verdict::Broken(broken),
+                None => Verdict::Ok(c),
+            },
             Some(101) => Verdict::Panic(tail(&err)),
             Some(c) => Verdict::WrongExit(c, tail(&err)),
             None => {
@@ -120,6 +124,82 @@ pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Ver
         },
     };
     (v, err)
+}
+
+/// The outputs a case's run writes (`args`): the EXR, its sidecar and the preview.
+pub const OUTPUTS: [&str; 3] = ["out.exr", "out.json", "out.png"];
+
+/// What exit code `code` promises, checked on the case's directory (and on stderr, where it was
+/// captured): exit 2 leaves no output file behind and its message names a file (every path of a
+/// case is absolute, so the message starts with one); exit 0 wrote the EXR and the sidecar, and
+/// every channel of the EXR holds only finite values. None if kept, else what broke.
+pub fn promise(code: i32, dir: &Path, stderr: Option<&str>, before: &[&str]) -> Option<String> {
+    if code == 2 {
+        let left: Vec<&str> = present(dir)
+            .into_iter()
+            .filter(|n| !before.contains(n))
+            .collect();
+        if !left.is_empty() {
+            return Some(format!("exit 2 left {left:?} behind"));
+        }
+        if let Some(err) = stderr {
+            let named = err
+                .lines()
+                .find_map(|l| l.strip_prefix("error: "))
+                .is_some_and(|m| m.starts_with('/'));
+            if !named {
+                return Some(format!(
+                    "exit 2 without a message naming a file: {}",
+                    tail(err)
+                ));
+            }
+        }
+        return None;
+    }
+    for n in &OUTPUTS[..2] {
+        if !dir.join(n).is_file() {
+            return Some(format!("exit 0 without {n}"));
+        }
+    }
+    non_finite(&dir.join("out.exr"))
+}
+
+/// The outputs present in `dir` (before a run: a case's own input file may bear such a name).
+pub fn present(dir: &Path) -> Vec<&'static str> {
+    OUTPUTS
+        .into_iter()
+        .filter(|n| std::fs::symlink_metadata(dir.join(n)).is_ok())
+        .collect()
+}
+
+/// The first channel of an EXR holding a NaN or an infinity (but the documented +inf of
+/// `depth` and `distance` on the background), or a failure to read it.
+pub fn non_finite(exr: &Path) -> Option<String> {
+    use exr::prelude::FlatSamples;
+    let img = match exr::prelude::read_all_flat_layers_from_file(exr) {
+        Ok(i) => i,
+        Err(e) => return Some(format!("exit 0 with an unreadable EXR: {e}")),
+    };
+    for layer in &img.layer_data {
+        for ch in &layer.channel_data.list {
+            // `depth` and `distance` are +inf where no surface is hit (scenes/README.md, AOVs).
+            let name = ch.name.to_string();
+            let far = name.starts_with("depth.") || name.starts_with("distance.");
+            let ok = |x: f32| x.is_finite() || (far && x == f32::INFINITY);
+            let bad = match &ch.sample_data {
+                FlatSamples::F16(v) => v.iter().position(|x| !ok(x.to_f32())),
+                FlatSamples::F32(v) => v.iter().position(|&x| !ok(x)),
+                FlatSamples::U32(_) => None,
+            };
+            if let Some(i) = bad {
+                return Some(format!(
+                    "exit 0 with a non-finite value in channel {} (sample {i})",
+                    ch.name
+                ));
+            }
+        }
+    }
+    None
 }
 
 fn tail(s: &str) -> String {
@@ -143,10 +223,14 @@ pub fn install_panic_hook() {
 /// Runs the case in `dir` through `prism::cli::run` in this process, catching panics. Hangs
 /// and memory are not bounded here (the binary runs are for those).
 pub fn run_in_process(scene: &Path, dir: &Path, limits: &Limits) -> Verdict {
+    let before = present(dir);
     let mut a = vec!["prism".to_string()];
     a.extend(args(scene, dir, limits));
     match std::panic::catch_unwind(|| prism::cli::run(a)) {
-        Ok(c @ (0 | 2)) => Verdict::Ok(c),
+        Ok(c @ (0 | 2)) => match promise(c, dir, None, &before) {
+            Some(broken) => Verdict::Broken(broken),
+            None => Verdict::Ok(c),
+        },
         Ok(c) => Verdict::WrongExit(c, String::new()),
         Err(_) => Verdict::Panic(
             PANIC

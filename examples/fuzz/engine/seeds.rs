@@ -125,6 +125,8 @@ pub fn load_seeds(repo: &Path) -> Seeds {
         }
     }
     gltf_seeds(repo, &host, &mut seed_files);
+    sensor_seeds(repo, &host, &mut seed_files);
+    scenes.extend(feature_scenes(&host));
     Seeds {
         scenes,
         files: seed_files,
@@ -167,6 +169,50 @@ fn gltf_seeds(repo: &Path, host: &dyn Fn(&str) -> String, out: &mut Vec<SeedFile
             }
         }
     }
+}
+
+/// The sensor files of configs/sensors/ (observers, band sets, cameras, the raw model), read
+/// by a scene whose spectral range covers their near-infrared bands.
+fn sensor_seeds(repo: &Path, host: &dyn Fn(&str) -> String, out: &mut Vec<SeedFile>) {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(repo.join("configs/sensors"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    v.sort();
+    for p in v {
+        out.push(SeedFile {
+            kind: FileKind::Sensor,
+            name: "sensor.ron".into(),
+            bytes: std::fs::read(&p).unwrap(),
+            host: host(&format!(
+                "spectral: (range: (360, 1000)), sensor: File(\"@CASE@/sensor.ron\"), {LIT}"
+            )),
+        });
+    }
+}
+
+/// A lit sphere on a diffuse floor: the body of the feature scenes.
+const LIT: &str = "materials: {\"m\": Diffuse()}, shapes: [(shape: Sphere(radius: 1), material: \"m\", name: \"ball\", to_world: [Translate((0, 0, 4))]), (shape: Rectangle, material: \"m\", to_world: [Scale((5, 5, 1)), Translate((0, 0, 6))])], emitters: [Constant(radiance: Named(\"D65\"))]";
+
+/// This round's scene features, one scene each (mutated as scenes are): cameras (thin lens,
+/// orthographic, intrinsics, distortion), AOVs, an inline raw sensor, camera curves.
+fn feature_scenes(host: &dyn Fn(&str) -> String) -> Vec<SeedScene> {
+    let features = [
+        ("thin_lens", "camera: (model: ThinLens(aperture_radius: 0.05, focus_distance: 4), fov: 40), aovs: [\"depth\", \"distance\"], "),
+        ("orthographic", "camera: (model: Orthographic(width: 3)), aovs: [\"normal\", \"normal_camera\", \"alpha\"], "),
+        ("intrinsics_distortion", "camera: (intrinsics: Some((fx: 8, fy: 8, cx: 3.5, cy: 2.5)), distortion: Some((k1: -0.1, k2: 0.01, p1: 0.001, p2: -0.001, k3: 0))), aovs: [\"depth\", \"instance\", \"label\", \"geo_normal\"], "),
+        ("aovs_all", "aovs: [\"depth\", \"distance\", \"normal\", \"normal_camera\", \"geo_normal\", \"geo_normal_camera\", \"instance\", \"label\", \"alpha\"], "),
+        ("raw_inline", "sensor: (rgb: [Srgb], bands: [], camera: (curves: Named(\"sony_ilce_7m3\"), white_balance: Illuminant(\"D65\"), exposure: (iso: 100, shutter: 0.01, f_number: 4)), raw: (pattern: Rggb, pixel_pitch: 5.93, quantum_efficiency: 0.5, full_well: 50000, read_noise: 3.0, dark_current: 0.1, gain: UnityIso(315), black_level: 512, bits: 14, noise: true)), "),
+        ("bands_filters", "spectral: (range: (360, 1000), sampling: Sensor), sensor: (observer: Cie1931, bands: [Even(count: 4), Boxes([(400, 450), (600, 700)]), Filter(name: \"nir\", curve: Gaussian(centre: 850, fwhm: 40))]), "),
+    ];
+    features
+        .iter()
+        .map(|(name, f)| SeedScene {
+            name: format!("feature:{name}"),
+            text: host(&format!("{f}{LIT}")),
+        })
+        .collect()
 }
 
 /// A glTF JSON document in the binary container (glTF 2.0 §4.4): the 12-byte header and one

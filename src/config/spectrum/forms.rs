@@ -132,13 +132,16 @@ impl SpectrumConfig {
             SpectrumConfig::Gaussian { centre, fwhm } => {
                 check_finite(ctx, "the centre", *centre)?;
                 check_finite(ctx, "the fwhm", *fwhm)?;
-                if *centre <= 0.0 || *fwhm <= 0.0 {
+                // Below 0.001 nm the table's steps vanish next to the centre in f64.
+                if *centre <= 0.0 || *fwhm < 1e-3 {
                     return Err(ctx
-                        .err(format!("Gaussian(centre: {centre}, fwhm: {fwhm}): both must be > 0 nm"))
+                        .err(format!("Gaussian(centre: {centre}, fwhm: {fwhm}): the centre must be > 0 nm and the fwhm at least 0.001 nm"))
                         .hint("e.g. Gaussian(centre: 850, fwhm: 40)"));
                 }
                 if role == Role::Ior {
-                    return Err(ctx.err("a Gaussian is not an index of refraction"));
+                    return Err(ctx
+                        .err("a Gaussian is not an index of refraction")
+                        .hint("give the index as a number, a Tabulated or File spectrum, or a Sellmeier form"));
                 }
                 gaussian(*centre, *fwhm, ctx.range)
             }
@@ -198,12 +201,22 @@ fn rgb_curve(rgb: [f32; 3], gamut: Gamut, role: Role, ctx: &Context) -> Result<C
 }
 
 /// A Gaussian tabulated finely enough for linear interpolation (step ≤ σ/20: relative error
-/// < 1e-3 at the peak) over the render range and ±6σ around the centre (beyond which it is
-/// < 1e-7 of its peak), so it is never cut off inside the range.
+/// < 1e-3 at the peak) over ±6σ around the centre (beyond which it is < 1e-7 of its peak; the
+/// curve is 0 outside its table), cut to the render range widened by its own width on each
+/// side (enough for a filter to see how much of it lies beyond the range). The table thus
+/// holds at most 241 samples or three times the range's width in nm, whatever the fwhm: a
+/// fwhm of 1e30 (or 1e-30) asked for more than 2^64 samples, which wrapped to none (a panic).
 fn gaussian(centre: f32, fwhm: f32, range: (f32, f32)) -> Curve {
     let sigma = fwhm as f64 / (8.0 * std::f64::consts::LN_2).sqrt();
-    let lo = (range.0 as f64).min(centre as f64 - 6.0 * sigma).max(1.0);
-    let hi = (range.1 as f64).max(centre as f64 + 6.0 * sigma);
+    let span = (range.1 - range.0) as f64;
+    let lo = (centre as f64 - 6.0 * sigma)
+        .max(range.0 as f64 - span)
+        .max(1.0);
+    let hi = (centre as f64 + 6.0 * sigma).min(range.1 as f64 + span);
+    if hi <= lo {
+        // The Gaussian is below 1e-7 of its peak over the whole widened range.
+        return Curve::Constant(0.0);
+    }
     let step = (sigma / 20.0).min(1.0);
     let n = ((hi - lo) / step).ceil() as usize + 1;
     let nm: Vec<f64> = (0..n).map(|i| lo + i as f64 * step).collect();

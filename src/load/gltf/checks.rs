@@ -276,6 +276,7 @@ fn check_forms(path: &Path, json: &Value) -> Result<(), InputError> {
             }
         }
     }
+    check_strides(path, json)?;
     let images = json.get("images").and_then(Value::as_array);
     for (i, im) in images.into_iter().flatten().enumerate() {
         let ok = match (im.get("uri"), im.get("bufferView")) {
@@ -290,6 +291,51 @@ fn check_forms(path: &Path, json: &Value) -> Result<(), InputError> {
                 "an image needs either a uri or a bufferView with a mimeType",
             )
             .hint("re-export the model, or check it with the Khronos glTF validator"));
+        }
+    }
+    Ok(())
+}
+
+/// Each accessor's element fits its buffer view's `byteStride` (glTF 2.0 §3.6.2.4: the stride
+/// is at least the element's size): the crate asserts it (a stride of 4 on a VEC3 float
+/// accessor aborted the render).
+fn check_strides(path: &Path, json: &Value) -> Result<(), InputError> {
+    let views = json.get("bufferViews").and_then(Value::as_array);
+    let accessors = json.get("accessors").and_then(Value::as_array);
+    for (i, a) in accessors.into_iter().flatten().enumerate() {
+        let view = a
+            .get("bufferView")
+            .and_then(Value::as_u64)
+            .and_then(|k| views?.get(k as usize));
+        let Some(stride) = view
+            .and_then(|v| v.get("byteStride"))
+            .and_then(Value::as_u64)
+        else {
+            continue;
+        };
+        let size = match a.get("componentType").and_then(Value::as_u64) {
+            Some(5120 | 5121) => 1,
+            Some(5122 | 5123) => 2,
+            _ => 4,
+        };
+        let count = match a.get("type").and_then(Value::as_str) {
+            Some("SCALAR") => 1,
+            Some("VEC2") => 2,
+            Some("VEC3") => 3,
+            Some("VEC4" | "MAT2") => 4,
+            Some("MAT3") => 9,
+            _ => 16,
+        };
+        if stride < size * count {
+            return Err(err(
+                path,
+                format!("accessors[{i}]"),
+                format!(
+                    "its buffer view's byteStride {stride} is less than its element's {} bytes",
+                    size * count
+                ),
+            )
+            .hint("re-export the model (the file breaks the specification's byteStride rule), or check it with the Khronos glTF validator"));
         }
     }
     Ok(())

@@ -17,6 +17,9 @@ pub(super) struct SpectralBands {
     pub names: Vec<ChannelName>,
 }
 
+/// The most Box, Boxes and Filter bands a sensor may list (an `Even` grid has its own 4096).
+const MAX_LISTED: usize = 1024;
+
 /// The bands of `groups`, each checked against the spectral `range`.
 pub(super) fn spectral_bands(
     groups: &[BandConfig],
@@ -44,6 +47,24 @@ pub(super) fn spectral_bands(
         }
         Ok(())
     };
+    // Boxes and filters together, counted before any is set up: each band's work grows with the
+    // number of channels (20,000 boxes ran for minutes).
+    let listed: usize = groups
+        .iter()
+        .map(|g| match g {
+            BandConfig::Boxes(list) => list.len(),
+            BandConfig::Even { .. } => 0,
+            _ => 1,
+        })
+        .sum();
+    if listed > MAX_LISTED {
+        return Err(at
+            .err(
+                "bands",
+                format!("{listed} Box, Boxes and Filter bands: more than {MAX_LISTED}"),
+            )
+            .hint("use an Even group for a fine grid of bands (up to 4096)"));
+    }
     for (g, group) in groups.iter().enumerate() {
         let field = format!("bands[{g}]");
         match group {
@@ -71,7 +92,9 @@ pub(super) fn spectral_bands(
                     return Err(at.err(&rf, format!("the band range ({blo}, {bhi}) nm must be increasing and inside the spectral range ({lo}, {hi}) nm")));
                 }
                 if n > 4096 {
-                    return Err(at.err(&cf, "more than 4096 spectral bands"));
+                    return Err(at.err(&cf, "more than 4096 spectral bands").hint(
+                        "give at most 4096 bands, e.g. count: 471 for 1 nm over 360–830 nm",
+                    ));
                 }
                 even = Some(Bands {
                     lo: blo,
