@@ -130,7 +130,7 @@ pub fn render_frame(
     let exr = stem.with_extension("exr");
     let extra = vec![
         ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
-        ("prism:spp".into(), s.spp.to_string()),
+        ("prism:spp".into(), s.spp_config().to_string()),
         ("prism:seed".into(), s.seed.to_string()),
         (
             "prism:invalidSamples".into(),
