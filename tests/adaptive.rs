@@ -149,3 +149,62 @@ fn adaptive_is_deterministic_at_any_thread_count() {
     assert_eq!(e1.spp, e2.spp);
     assert_eq!(bits(&e1.stderr), bits(&e2.stderr));
 }
+
+/// `prism render --rel-error`: renders adaptively (the summary and the EXR header say so);
+/// with `--spp` it is refused, and bad `Adaptive` fields are errors naming the field, exit 2,
+/// no output.
+#[test]
+fn the_command_line_takes_rel_error() {
+    let dir = std::env::temp_dir().join(format!("prism-adaptive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = |name: &str, spp: &str| {
+        let p = dir.join(name);
+        let text = format!(
+            "(film: (width: 8, height: 6), sampler: (spp: {spp}), \
+             materials: {{ \"grey\": Diffuse(reflectance: Constant(0.5)) }}, \
+             shapes: [(shape: Sphere(center: (0, 0, 4)), material: \"grey\")], \
+             emitters: [Constant(radiance: Named(\"D65\"))])"
+        );
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let run = |scene: &Path, extra: &[&str]| {
+        let out = dir.join("out.exr");
+        let _ = std::fs::remove_file(&out);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_prism"))
+            .arg("render")
+            .arg(scene)
+            .arg("-o")
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        (o.status.code().unwrap_or(-1), err, out.exists())
+    };
+    let good = scene("good.ron", "4");
+    let (code, err, written) = run(&good, &["--rel-error", "0.05", "--aovs", "spp"]);
+    assert!(code == 0 && written, "{err}");
+    assert!(
+        err.contains("at Adaptive(rel_error: 0.05, min: 16, max: 4096"),
+        "{err}"
+    );
+    let (code, err, written) = run(&good, &["--rel-error", "0.05", "--spp", "4"]);
+    assert!(code == 2 && !written, "{err}");
+    for (spp, field) in [
+        (
+            "Adaptive(rel_error: 0.1, min: 8, max: 4)",
+            "sampler.spp.max",
+        ),
+        (
+            "Adaptive(rel_error: -1, min: 8, max: 16)",
+            "sampler.spp.rel_error",
+        ),
+        ("Adaptive(rel_error: 0.1, min: 8)", "max"),
+    ] {
+        let (code, err, written) = run(&scene("bad.ron", spp), &[]);
+        assert!(code == 2 && !written && err.contains(field), "{spp}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
