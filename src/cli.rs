@@ -1,5 +1,6 @@
 //! The `prism` command line.
 
+use crate::config::{AdaptiveSpp, Spp};
 use crate::error::Error;
 use crate::output;
 use clap::{Parser, Subcommand};
@@ -68,8 +69,12 @@ pub struct RenderArgs {
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Samples per pixel (overrides the scene's sampler.spp).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "rel_error")]
     pub spp: Option<u32>,
+    /// Adaptive sampling to this relative standard error per pixel, e.g. 0.01 (overrides the
+    /// scene's sampler.spp; keeps its Adaptive min/max/target, or takes min 16, max 4096, Y).
+    #[arg(long)]
+    pub rel_error: Option<f32>,
     /// Random seed (overrides the scene's sampler.seed).
     #[arg(long)]
     pub seed: Option<u64>,
@@ -194,7 +199,17 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     let t_load = Instant::now();
     let job = crate::load::load(&args.scene, |cfg| {
         if let Some(spp) = args.spp {
-            cfg.sampler.spp = spp;
+            cfg.sampler.spp = Spp::Fixed(spp);
+        }
+        if let Some(rel_error) = args.rel_error {
+            let base = cfg.sampler.spp.adaptive().unwrap_or(AdaptiveSpp {
+                rel_error,
+                min: 16,
+                max: 4096,
+                target: Default::default(),
+                floor: 1e-3,
+            });
+            cfg.sampler.spp = Spp::Adaptive(AdaptiveSpp { rel_error, ..base });
         }
         if let Some(seed) = args.seed {
             cfg.sampler.seed = seed;
@@ -262,7 +277,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
     }
     let s = &job.settings;
-    let total = s.width as u64 * s.height as u64 * s.spp as u64;
+    // Adaptive: the most samples the render may take (pilots included).
+    let per_pixel = s.spp as u64 + s.adaptive.map_or(0, |a| a.min as u64);
+    let total = s.width as u64 * s.height as u64 * per_pixel;
     let reporter = Reporter::new(total, args.workers.quiet);
     let r = pool.install(|| crate::pipeline::render(&job, 1.0, &|n| reporter.add(n)));
     reporter.finish();
@@ -279,7 +296,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         "rendered {}x{} at {} spp ({:.1} Msamples) in {:.2} s ({:.2} Msamples/s, {} thread{}); scene load {:.2} s; {} invalid samples{} -> {}",
         s.width,
         s.height,
-        s.spp,
+        s.spp_config(),
         stats.samples as f64 / 1e6,
         render_s,
         msps,

@@ -23,7 +23,7 @@ use std::path::Path;
 /// wavelengths): the reference is the same expectation either way.
 fn render(seed: u64, defaults: bool) -> Film {
     let job = prism::load::load(Path::new("scenes/cornell.ron"), |cfg| {
-        cfg.sampler.spp = 128;
+        cfg.sampler.spp = prism::config::Spp::Fixed(128);
         cfg.sampler.seed = seed;
         if defaults {
             cfg.sampler.kind = prism::config::SamplerConfig::default().kind;

@@ -30,7 +30,7 @@ fn render(scene: &str, accel: AccelKind, seed: u64, spp: u32) -> prism::film::Fi
     let job = prism::load::load(Path::new(scene), |cfg| {
         cfg.accel = accel;
         cfg.sampler.seed = seed;
-        cfg.sampler.spp = spp;
+        cfg.sampler.spp = prism::config::Spp::Fixed(spp);
         cfg.film.width = 64;
         cfg.film.height = 64;
     })

@@ -63,7 +63,7 @@ fn render_xyz(job: &prism::load::Job) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
         .map(|i| [x[i] as f64, y[i] as f64, z[i] as f64])
         .collect();
     let errs = (0..x.len())
-        .map(|i| [0, 1, 2].map(|k| se[i * slots + k] as f64))
+        .map(|i| [0, 1, 2].map(|k| se.stderr[i * slots + k] as f64))
         .collect();
     (means, errs)
 }
@@ -321,7 +321,7 @@ fn gltf_emissive_texture_renders_its_pattern() {
         cfg.film.height = 30;
         // Samples within each pixel's square (the default Gaussian reaches into neighbours).
         cfg.film.filter = prism::filter::FilterConfig::Box { radius: 0.5 };
-        cfg.sampler.spp = 16;
+        cfg.sampler.spp = prism::config::Spp::Fixed(16);
         cfg.spectral.wavelengths = 8;
         cfg.integrator.max_depth = 1;
         cfg.outputs.bands = Some(0);

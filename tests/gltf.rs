@@ -50,7 +50,7 @@ fn render(job: &prism::load::Job) -> Vec<f32> {
 fn small(cfg: &mut prism::config::SceneConfig) {
     cfg.film.width = 32;
     cfg.film.height = 24;
-    cfg.sampler.spp = 2;
+    cfg.sampler.spp = prism::config::Spp::Fixed(2);
     cfg.spectral.wavelengths = 4;
     cfg.outputs.bands = Some(0);
 }

@@ -25,7 +25,7 @@ fn stress_scenes_have_no_invalid_samples() {
     for scene in &scenes {
         for seed in [1u64, 2] {
             let job = prism::load::load(Path::new(scene), |cfg| {
-                cfg.sampler.spp = 16;
+                cfg.sampler.spp = prism::config::Spp::Fixed(16);
                 cfg.sampler.seed = seed;
             })
             .unwrap();

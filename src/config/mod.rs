@@ -20,6 +20,7 @@ mod parse;
 pub mod sensor;
 mod shape;
 pub mod spectrum;
+pub mod spp;
 mod unique_keys;
 
 use crate::accel::AccelKind;
@@ -37,6 +38,7 @@ pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
 pub use shape::{AreaEmitterConfig, ShapeConfig, ShapeKind, TransformOp};
 pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig, MAX_EMISSION};
+pub use spp::{AdaptiveSpp, ErrorTarget, Spp};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -154,8 +156,9 @@ pub struct SamplerConfig {
     /// `Sobol` (default: padded Owen-scrambled Sobol, at most 65536 spp, best with powers of
     /// two) or `Independent` (PCG32).
     pub kind: SamplerKind,
-    /// Samples per pixel. Default 64.
-    pub spp: u32,
+    /// Samples per pixel: a number (default 64) or `Adaptive(rel_error: 0.01, min: 16,
+    /// max: 4096)` (`spp::AdaptiveSpp`).
+    pub spp: Spp,
     /// Seed; the same seed gives the same image, bit for bit. Default 0.
     pub seed: u64,
 }
@@ -164,7 +167,7 @@ impl Default for SamplerConfig {
     fn default() -> Self {
         Self {
             kind: SamplerKind::Sobol,
-            spp: 64,
+            spp: Spp::Fixed(64),
             seed: 0,
         }
     }

@@ -90,8 +90,9 @@ pub struct FrameOutputs {
     pub preview: bool,
     /// Exposure of the preview in stops. Default 0.
     pub exposure: f32,
-    /// Samples per pixel for every frame (overrides the scene's `sampler.spp`).
-    pub spp: Option<u32>,
+    /// Samples per pixel for every frame (overrides the scene's `sampler.spp`): a number or
+    /// `Adaptive(rel_error: 0.01, min: 16, max: 4096)`, as in a scene.
+    pub spp: Option<crate::config::Spp>,
     /// Image size (width, height) for every frame (overrides the scene's `film`).
     pub resolution: Option<(u32, u32)>,
     /// The AOV layers of every frame (overrides the base scene's `aovs`): `aovs: ["depth",

@@ -34,8 +34,8 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
     let mut params = serde_json::Map::new();
     let seed = Rng::new(c.seed, i, Stream::Render).next_u64();
     scene.sampler.seed = seed;
-    if let Some(spp) = c.outputs.spp {
-        scene.sampler.spp = spp;
+    if let Some(spp) = &c.outputs.spp {
+        scene.sampler.spp = *spp;
     }
     if let Some((w, h)) = c.outputs.resolution {
         scene.film.width = w;

@@ -17,7 +17,11 @@
 //! - `albedo`: the material's diffuse reflectance at the pixel-centre hit (definition in
 //!   `integrator::albedo`); background 0.
 //! - `stderr`: each pixel's standard error of Y and of every band, √(s²/spp) with s² the
-//!   unbiased variance of its camera samples' contributions (the colour channels are unchanged).
+//!   unbiased variance of its camera samples' contributions (the colour channels are unchanged);
+//!   under adaptive sampling, the achieved error of the estimate's samples (the pilot's not
+//!   counted).
+//! - `spp`: the number of camera samples each pixel's estimate averaged (32-bit unsigned; the
+//!   scene's spp everywhere unless adaptive, whose pilot batch is not counted).
 
 /// One AOV layer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -36,10 +40,11 @@ pub enum Aov {
     Alpha,
     Stderr,
     Albedo,
+    Spp,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 14] = [
+    pub const ALL: [Aov; 15] = [
         Aov::Distance,
         Aov::Depth,
         Aov::Position,
@@ -54,6 +59,7 @@ impl Aov {
         Aov::Alpha,
         Aov::Stderr,
         Aov::Albedo,
+        Aov::Spp,
     ];
 
     /// The name in `aovs: [...]` and `--aovs`, and the EXR layer's name.
@@ -73,6 +79,7 @@ impl Aov {
             Aov::Alpha => "alpha",
             Aov::Stderr => "stderr",
             Aov::Albedo => "albedo",
+            Aov::Spp => "spp",
         }
     }
 
@@ -92,12 +99,13 @@ impl Aov {
             Aov::Stderr => &["Y"],
             // And one per band, as for `stderr` (`albedo.S0.550,000000nm`).
             Aov::Albedo => &["R", "G", "B"],
+            Aov::Spp => &["N"],
         }
     }
 
     /// Integer (32-bit unsigned) channels.
     pub fn is_id(self) -> bool {
-        matches!(self, Aov::Instance | Aov::Label | Aov::Material)
+        matches!(self, Aov::Instance | Aov::Label | Aov::Material | Aov::Spp)
     }
 
     /// What it means, for the sidecar.
@@ -116,6 +124,7 @@ impl Aov {
             Aov::Material => "1 + index of the shape's material (materials; 0: none)",
             Aov::Alpha => "fraction of the pixel's camera samples that hit a surface (filtered like radiance)",
             Aov::Stderr => "standard error of the pixel's Y and of each band (stderr.S0.<λ>nm) from the spread of its camera samples: sqrt(sample variance / spp)",
+            Aov::Spp => "camera samples the pixel's estimate averaged (sampler.spp; adaptive sampling: the pixel's own count, its pilot batch not counted)",
             Aov::Albedo => "diffuse reflectance of the material at the pixel-centre hit (textures at its uv): R/G/B linear sRGB under D65 (constant rho gives R=G=B=rho), and each band's mean (albedo.S0.<λ>nm); conductors and dielectrics 0; 0: none",
         }
     }

@@ -13,9 +13,9 @@ use crate::scene::Scene;
 use glam::{DVec3, Vec2, Vec3};
 use rayon::prelude::*;
 
-/// Whether `aov` is made from the pixel-centre hits (`alpha` and `stderr` are not).
+/// Whether `aov` is made from the pixel-centre hits (`alpha`, `stderr` and `spp` are not).
 pub fn uses_hits(aov: Aov) -> bool {
-    !matches!(aov, Aov::Alpha | Aov::Stderr)
+    !matches!(aov, Aov::Alpha | Aov::Stderr | Aov::Spp)
 }
 
 /// `stderr.Y` and one `stderr.<band>` per band, from per-pixel slot standard errors.
@@ -69,8 +69,9 @@ pub fn first_hits(scene: &Scene, width: u32, height: u32) -> Vec<Option<Hit>> {
         .collect()
 }
 
-/// Fraction of each pixel's camera samples that hit a surface (the colour pass's rays).
-pub fn coverage(scene: &Scene, settings: &RenderSettings) -> Vec<f32> {
+/// Fraction of each pixel's camera samples that hit a surface (the colour pass's rays: the
+/// first `counts[pixel]` of its stream, or `settings.spp` without counts).
+pub fn coverage(scene: &Scene, settings: &RenderSettings, counts: Option<&[u32]>) -> Vec<f32> {
     let (w, h) = (settings.width, settings.height);
     (0..w as usize * h as usize)
         .into_par_iter()
@@ -80,7 +81,8 @@ pub fn coverage(scene: &Scene, settings: &RenderSettings) -> Vec<f32> {
             let (x, y) = ((pixel % w as u64) as f32, (pixel / w as u64) as f32);
             let mut sampler = PixelSampler::new(settings.sampler, settings.seed, pixel);
             let mut hits = 0u32;
-            for s in 0..settings.spp {
+            let n = counts.map_or(settings.spp, |c| c[i]);
+            for s in 0..n {
                 sampler.start(s);
                 let offset = settings.filter.sample(sampler.next_2d());
                 let ray = scene
@@ -88,7 +90,7 @@ pub fn coverage(scene: &Scene, settings: &RenderSettings) -> Vec<f32> {
                     .ray(Vec2::new(x + 0.5, y + 0.5) + offset, &mut sampler);
                 hits += scene.intersect(&ray).is_some() as u32;
             }
-            (hits as f64 / settings.spp as f64) as f32
+            (hits as f64 / n as f64) as f32
         })
         .collect()
 }
@@ -104,7 +106,8 @@ fn distance_depth(camera: &Camera, r: &glam::DMat3, t: DVec3, p: Vec3) -> (f32, 
 }
 
 /// The layers `aovs` asks for, from the pixel-centre hits (`label_ids`, `instance_ids`: each
-/// shape's; material ids from the scene). Float layers first, then the id layers.
+/// shape's; material ids from the scene; `counts`: each pixel's sample count, as `coverage`
+/// takes it). Float layers first, then the id layers.
 pub fn layers(
     scene: &Scene,
     settings: &RenderSettings,
@@ -112,6 +115,7 @@ pub fn layers(
     aovs: &[Aov],
     label_ids: &[u32],
     instance_ids: &[u32],
+    counts: Option<&[u32]>,
 ) -> (Vec<Channel>, Vec<UintChannel>) {
     let (r, t) = scene.camera.world_to_opencv();
     let rf = r.as_mat3();
@@ -159,7 +163,14 @@ pub fn layers(
             Aov::Stderr | Aov::Albedo => {} // `add_layers`
             Aov::Alpha => floats.push(Channel {
                 name: "alpha.A".into(),
-                data: coverage(scene, settings),
+                data: coverage(scene, settings, counts),
+            }),
+            Aov::Spp => ids.push(UintChannel {
+                name: "spp.N".into(),
+                data: match counts {
+                    Some(c) => c.to_vec(),
+                    None => vec![settings.spp; (settings.width * settings.height) as usize],
+                },
             }),
             Aov::Instance | Aov::Label | Aov::Material => {
                 let id = |h: &Option<Hit>| {

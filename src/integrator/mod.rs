@@ -1,6 +1,7 @@
 //! Rendering: the image is cut into tiles rendered in parallel; every pixel takes all its
 //! samples in order, so its value depends only on (scene, seed, pixel) and never on threads.
 
+pub mod adaptive;
 pub mod albedo;
 pub mod aov;
 pub mod caustics;
@@ -27,7 +28,10 @@ pub const SUPPORTED_LANES: [usize; 5] = [1, 2, 4, 8, 16];
 pub struct RenderSettings {
     pub width: u32,
     pub height: u32,
+    /// Samples per pixel; with `adaptive`, the most a pixel's estimate takes.
     pub spp: u32,
+    /// Adaptive sampling (`adaptive`): each pixel's count from a pilot batch of its own.
+    pub adaptive: Option<crate::config::AdaptiveSpp>,
     pub seed: u64,
     pub sampler: SamplerKind,
     /// Wavelengths per path (one of `SUPPORTED_LANES`).
@@ -36,6 +40,16 @@ pub struct RenderSettings {
     pub filter: Filter,
     pub path: PathSettings,
     pub dispersion: Dispersion,
+}
+
+impl RenderSettings {
+    /// The samples per pixel as the scene wrote them.
+    pub fn spp_config(&self) -> crate::config::Spp {
+        match self.adaptive {
+            Some(a) => crate::config::Spp::Adaptive(a),
+            None => crate::config::Spp::Fixed(self.spp),
+        }
+    }
 }
 
 /// What a render measured about itself.
@@ -62,9 +76,9 @@ pub fn render(
     (film, stats)
 }
 
-/// As `render`; with `stderr`, also each pixel's standard error of every accumulator slot
-/// (X, Y, Z, bands; `slots` per pixel, from the spread of its camera samples), the colour
-/// channels staying bit for bit those of `render`. Caustic light tracing adds no per-pixel
+/// As `render`, also returning each pixel's sample count and, with `stderr`, its standard
+/// error of every accumulator slot (X, Y, Z, bands; `slots` per pixel, from the spread of its
+/// camera samples), the colour channels staying bit for bit those of `render`. Caustic light tracing adds no per-pixel
 /// samples, so the scene loader refuses the `stderr` AOV with it.
 pub fn render_film(
     scene: &Scene,
@@ -72,7 +86,7 @@ pub fn render_film(
     channels: &FilmChannels,
     stderr: bool,
     progress: &(dyn Fn(u64) + Sync),
-) -> (Film, RenderStats, Vec<f32>) {
+) -> (Film, RenderStats, PixelErrors) {
     let sensor = &channels.sensor;
     let (means, mut stats, se) = match (settings.lanes, stderr) {
         (1, false) => render_lanes::<1, false>(scene, settings, sensor, progress),
@@ -94,13 +108,24 @@ pub fn render_film(
     (film, stats, se)
 }
 
+/// Per-pixel measurements beside the film, row-major.
+#[derive(Clone, Debug, Default)]
+pub struct PixelErrors {
+    /// With `stderr`: each pixel's standard error of every accumulator slot (`slots` per
+    /// pixel); empty otherwise.
+    pub stderr: Vec<f32>,
+    /// The samples each pixel's estimate averaged (`settings.spp` everywhere unless adaptive;
+    /// an adaptive pilot batch is not counted: it is not in the estimate).
+    pub spp: Vec<u32>,
+}
+
 /// `SE`: also return each pixel's standard error per slot (empty otherwise).
 fn render_lanes<const N: usize, const SE: bool>(
     scene: &Scene,
     settings: &RenderSettings,
     sensor: &Sensor,
     progress: &(dyn Fn(u64) + Sync),
-) -> (Vec<f32>, RenderStats, Vec<f32>) {
+) -> (Vec<f32>, RenderStats, PixelErrors) {
     let (w, h) = (settings.width, settings.height);
     let slots = sensor.slots();
     let dispersive = scene.materials.iter().any(|m| m.dispersive());
@@ -108,7 +133,7 @@ fn render_lanes<const N: usize, const SE: bool>(
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
     let caustics = settings.path.caustics.and_then(|c| Caustics::new(scene, c));
-    let results: Vec<(Vec<f32>, Vec<f32>, TileCounts)> = tiles
+    let results: Vec<TileOut> = tiles
         .par_iter()
         .map(|&(x0, y0)| {
             let r = render_tile::<N, SE>(
@@ -120,24 +145,26 @@ fn render_lanes<const N: usize, const SE: bool>(
                 x0,
                 y0,
             );
-            let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
-            progress(((x1 - x0) * (y1 - y0)) as u64 * settings.spp as u64);
+            progress(r.counts.samples);
             r
         })
         .collect();
     let mut means = vec![0.0f32; (w * h) as usize * slots];
     let mut se = vec![0.0f32; if SE { means.len() } else { 0 }];
-    let (mut invalid, mut clamped) = (0, 0);
-    for (&(x0, y0), (tile, tile_se, counts)) in tiles.iter().zip(&results) {
-        invalid += counts.invalid;
-        clamped += counts.clamped;
+    let mut spp = vec![0u32; (w * h) as usize];
+    let (mut samples, mut invalid, mut clamped) = (0, 0, 0);
+    for (&(x0, y0), r) in tiles.iter().zip(&results) {
+        samples += r.counts.samples;
+        invalid += r.counts.invalid;
+        clamped += r.counts.clamped;
         let tw = (x0 + TILE).min(w) - x0;
-        for (i, px) in tile.chunks_exact(slots).enumerate() {
+        for (i, px) in r.means.chunks_exact(slots).enumerate() {
             let (x, y) = (x0 + i as u32 % tw, y0 + i as u32 / tw);
             let at = (y * w + x) as usize * slots;
             means[at..at + slots].copy_from_slice(px);
+            spp[at / slots] = r.spp[i];
             if SE {
-                se[at..at + slots].copy_from_slice(&tile_se[i * slots..(i + 1) * slots]);
+                se[at..at + slots].copy_from_slice(&r.se[i * slots..(i + 1) * slots]);
             }
         }
     }
@@ -146,7 +173,6 @@ fn render_lanes<const N: usize, const SE: bool>(
             *m = (*m as f64 + add) as f32;
         }
     }
-    let samples = w as u64 * h as u64 * settings.spp as u64;
     (
         means,
         RenderStats {
@@ -154,15 +180,110 @@ fn render_lanes<const N: usize, const SE: bool>(
             invalid_samples: invalid,
             clamped_samples: clamped,
         },
-        se,
+        PixelErrors { stderr: se, spp },
     )
 }
 
-/// Per-tile sample counts.
+/// Per-tile sample counts (pilot samples included).
 #[derive(Clone, Copy, Default)]
 struct TileCounts {
+    samples: u64,
     invalid: u64,
     clamped: u64,
+}
+
+/// A tile's pixels, in its own row-major order: slot means, slot standard errors (with `SE`),
+/// and each pixel's estimate's sample count.
+struct TileOut {
+    means: Vec<f32>,
+    se: Vec<f32>,
+    spp: Vec<u32>,
+    counts: TileCounts,
+}
+
+/// One pixel's accumulators: per-slot sums, and with squares, each sample's own slot values
+/// (`one`) and the sums of their squares.
+struct Sums {
+    acc: Vec<f64>,
+    one: Vec<f64>,
+    acc2: Vec<f64>,
+}
+
+impl Sums {
+    fn new(slots: usize, squares: bool) -> Self {
+        let n = if squares { slots } else { 0 };
+        Sums {
+            acc: vec![0.0; slots],
+            one: vec![0.0; n],
+            acc2: vec![0.0; n],
+        }
+    }
+
+    fn clear(&mut self) {
+        self.acc.iter_mut().for_each(|a| *a = 0.0);
+        self.acc2.iter_mut().for_each(|a| *a = 0.0);
+    }
+}
+
+/// What every sample of a tile shares.
+struct Pass<'a, const N: usize> {
+    scene: &'a Scene,
+    settings: &'a RenderSettings,
+    sensor: &'a Sensor,
+    caustics: Option<&'a Caustics<'a>>,
+    clamp: f32,
+    radiance: path::RadianceFn<N>,
+}
+
+impl<const N: usize> Pass<'_, N> {
+    /// Samples `0..n` of pixel (x, y) from `sampler`, summed into `sums` (with `SQ`, their
+    /// squares too: a second add into a scratch, so `acc` sums exactly as without them).
+    #[inline(always)]
+    fn take<const SQ: bool>(
+        &self,
+        x: u32,
+        y: u32,
+        sampler: &mut PixelSampler,
+        n: u32,
+        sums: &mut Sums,
+        counts: &mut TileCounts,
+    ) {
+        let settings = self.settings;
+        counts.samples += n as u64;
+        for s in 0..n {
+            sampler.start(s);
+            let offset = settings.filter.sample(sampler.next_2d());
+            let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+            let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
+            let ray = self.scene.camera.ray(film, sampler);
+            let mut l = (self.radiance)(
+                self.scene,
+                ray,
+                &wl,
+                sampler,
+                &settings.path,
+                settings.dispersion,
+                self.caustics,
+            );
+            if !l.is_finite() {
+                counts.invalid += 1;
+                continue;
+            }
+            if l.max_value() > self.clamp {
+                counts.clamped += 1;
+                l = Spectrum::from_fn(|j| l[j].min(self.clamp));
+            }
+            self.sensor
+                .add(&mut sums.acc, &l, &wl.estimator_weights(), &wl);
+            if SQ {
+                sums.one.iter_mut().for_each(|a| *a = 0.0);
+                self.sensor
+                    .add(&mut sums.one, &l, &wl.estimator_weights(), &wl);
+                let sq = sums.acc2.iter_mut().zip(&sums.one);
+                sq.for_each(|(q, v)| *q += v * v);
+            }
+        }
+    }
 }
 
 /// `dispersive`: some material of the scene samples directions by wavelength (see
@@ -175,86 +296,74 @@ fn render_tile<const N: usize, const SE: bool>(
     caustics: Option<&Caustics>,
     x0: u32,
     y0: u32,
-) -> (Vec<f32>, Vec<f32>, TileCounts) {
+) -> TileOut {
     let (x1, y1) = (
         (x0 + TILE).min(settings.width),
         (y0 + TILE).min(settings.height),
     );
     let slots = sensor.slots();
-    let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize * slots);
-    let mut acc = vec![0.0f64; slots];
-    // Standard errors: each sample's own contribution and the sums of their squares.
-    let (mut se_out, mut one, mut acc2) = if SE {
-        (
-            Vec::with_capacity(out.capacity()),
-            vec![0.0f64; slots],
-            vec![0.0f64; slots],
-        )
-    } else {
-        (Vec::new(), Vec::new(), Vec::new())
+    let pixels = ((x1 - x0) * (y1 - y0)) as usize;
+    let mut out = TileOut {
+        means: Vec::with_capacity(pixels * slots),
+        se: Vec::with_capacity(if SE { pixels * slots } else { 0 }),
+        spp: Vec::with_capacity(pixels),
+        counts: TileCounts::default(),
     };
-    let mut counts = TileCounts::default();
-    let clamp = settings.path.clamp.unwrap_or(f32::INFINITY);
-    let inv_spp = 1.0 / settings.spp as f64;
-    let radiance = match (dispersive, caustics.is_some()) {
-        (true, true) => path::radiance::<N, true, true>,
-        (true, false) => path::radiance::<N, true, false>,
-        (false, true) => path::radiance::<N, false, true>,
-        (false, false) => path::radiance::<N, false, false>,
+    let mut sums = Sums::new(slots, SE);
+    let pass = Pass::<N> {
+        scene,
+        settings,
+        sensor,
+        caustics,
+        clamp: settings.path.clamp.unwrap_or(f32::INFINITY),
+        radiance: match (dispersive, caustics.is_some()) {
+            (true, true) => path::radiance::<N, true, true>,
+            (true, false) => path::radiance::<N, true, false>,
+            (false, true) => path::radiance::<N, false, true>,
+            (false, false) => path::radiance::<N, false, false>,
+        },
     };
+    // Adaptive: the pilot's accumulators, the slots it judges and the seed of its stream.
+    let adaptive = settings.adaptive.map(|a| {
+        let slots_judged = adaptive::target_slots(&a, sensor);
+        (a, Sums::new(slots, true), slots_judged)
+    });
+    let pilot_seed = adaptive::pilot_seed(settings.seed);
+    let mut adaptive = adaptive;
     for y in y0..y1 {
         for x in x0..x1 {
-            acc.iter_mut().for_each(|a| *a = 0.0);
-            if SE {
-                acc2.iter_mut().for_each(|a| *a = 0.0);
-            }
             let pixel = y as u64 * settings.width as u64 + x as u64;
+            let n = match &mut adaptive {
+                None => settings.spp,
+                Some((a, pilot, judged)) => {
+                    pilot.clear();
+                    let mut ps = PixelSampler::new(settings.sampler, pilot_seed, pixel);
+                    pass.take::<true>(x, y, &mut ps, a.min, pilot, &mut out.counts);
+                    let (s, q) = (&pilot.acc, &pilot.acc2);
+                    adaptive::count(a, settings.sampler, a.min, s, q, judged)
+                }
+            };
+            sums.clear();
             let mut sampler = PixelSampler::new(settings.sampler, settings.seed, pixel);
-            for s in 0..settings.spp {
-                sampler.start(s);
-                let offset = settings.filter.sample(sampler.next_2d());
-                let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-                let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
-                let ray = scene.camera.ray(film, &mut sampler);
-                let mut l = radiance(
-                    scene,
-                    ray,
-                    &wl,
-                    &mut sampler,
-                    &settings.path,
-                    settings.dispersion,
-                    caustics,
-                );
-                if !l.is_finite() {
-                    counts.invalid += 1;
-                    continue;
-                }
-                if l.max_value() > clamp {
-                    counts.clamped += 1;
-                    l = Spectrum::from_fn(|j| l[j].min(clamp));
-                }
-                sensor.add(&mut acc, &l, &wl.estimator_weights(), &wl);
-                if SE {
-                    // A second add into a scratch, so `acc` sums exactly as without SE.
-                    one.iter_mut().for_each(|a| *a = 0.0);
-                    sensor.add(&mut one, &l, &wl.estimator_weights(), &wl);
-                    acc2.iter_mut().zip(&one).for_each(|(q, v)| *q += v * v);
-                }
-            }
-            out.extend(acc.iter().map(|&a| (a * inv_spp) as f32));
+            pass.take::<SE>(x, y, &mut sampler, n, &mut sums, &mut out.counts);
+            let inv_n = 1.0 / n as f64;
+            out.means
+                .extend(sums.acc.iter().map(|&a| (a * inv_n) as f32));
+            out.spp.push(n);
             if SE {
-                // Unbiased sample variance over spp samples (invalid ones count as 0), / spp.
-                let n = settings.spp as f64;
-                se_out.extend(acc.iter().zip(&acc2).map(|(&s, &q)| {
-                    let var = if n > 1.0 {
-                        ((q - s * s / n) / (n - 1.0)).max(0.0)
-                    } else {
-                        0.0
-                    };
-                    (var / n).sqrt() as f32
-                }));
+                // Unbiased sample variance over n samples (invalid ones count as 0), / n.
+                let n = n as f64;
+                out.se
+                    .extend(sums.acc.iter().zip(&sums.acc2).map(|(&s, &q)| {
+                        let var = if n > 1.0 {
+                            ((q - s * s / n) / (n - 1.0)).max(0.0)
+                        } else {
+                            0.0
+                        };
+                        (var / n).sqrt() as f32
+                    }));
             }
         }
     }
-    (out, se_out, counts)
+    out
 }

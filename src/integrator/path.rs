@@ -62,6 +62,17 @@ pub enum Dispersion {
     TerminateSecondary,
 }
 
+/// `radiance` with its dispersion and caustics chosen.
+pub type RadianceFn<const N: usize> = fn(
+    &Scene,
+    Ray,
+    &Wavelengths<N>,
+    &mut PixelSampler,
+    &PathSettings,
+    Dispersion,
+    Option<&Caustics>,
+) -> Spectrum<N>;
+
 /// Radiance arriving along `ray` at the lanes of `wl`, each lane already weighted by the
 /// hero-wavelength estimator (the caller divides by N p(λ_j)).
 ///

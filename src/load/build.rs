@@ -9,7 +9,6 @@ use crate::emitter::{AreaEmitter, Emitter};
 use crate::error::{Error, InputError};
 use crate::filter::{Filter, FilterConfig};
 use crate::integrator::{RenderSettings, SUPPORTED_LANES};
-use crate::sampler::{SamplerKind, SOBOL_MAX_SPP};
 use crate::sensor::FilmChannels;
 use crate::spectrum::{Curve, WavelengthSampler};
 use crate::texture::SpectralTexture;
@@ -168,17 +167,8 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
 
     // Sampler and integrator.
     let s = &cfg.sampler;
-    check(s.spp > 0, file, "sampler.spp", "spp must be at least 1")?;
-    if s.kind == SamplerKind::Sobol {
-        check(
-            s.spp <= SOBOL_MAX_SPP,
-            file,
-            "sampler.spp",
-            format!(
-                "the Sobol sampler (the default) supports at most {SOBOL_MAX_SPP} spp; for more, \
-                 set `sampler: (kind: Independent)` or pass `--sampler independent`"
-            ),
-        )?;
+    if let Some((sub, message)) = s.spp.problem(s.kind) {
+        return Err(InputError::new(file, message).field(format!("sampler.spp{sub}")));
     }
     check(
         cfg.integrator.max_depth >= -1,
@@ -357,7 +347,8 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let settings = RenderSettings {
         width: f.width,
         height: f.height,
-        spp: s.spp,
+        spp: s.spp.max(),
+        adaptive: s.spp.adaptive(),
         seed: s.seed,
         sampler: s.kind,
         lanes: sp.wavelengths,
@@ -374,6 +365,21 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         path: cfg.integrator,
         dispersion: cfg.spectral.dispersion,
     };
+    if let Some(a) = settings.adaptive {
+        check(
+            settings.path.caustics.is_none(),
+            file,
+            "sampler.spp",
+            "adaptive sampling measures each pixel's own samples, and caustic light tracing adds \
+             none to them; use a fixed spp with integrator.caustics, or drop the caustics",
+        )?;
+        check(
+            a.target != crate::config::ErrorTarget::Bands || channels.sensor.bands().is_some(),
+            file,
+            "sampler.spp.target",
+            "target: Bands needs spectral bands in the sensor's output; use target: Y or add bands",
+        )?;
+    }
     check(
         cfg.accel.is_available(),
         file,

@@ -4,13 +4,20 @@
 use crate::film::{Aov, Film};
 use crate::integrator::albedo;
 use crate::integrator::aov::{first_hits, layers, stderr_layers, uses_hits, Hit};
+use crate::integrator::PixelErrors;
 use crate::load::Job;
 
 /// Runs the AOV pass: adds the layers `job.aovs` asks for to `film` and returns the
 /// pixel-centre hits the sidecar's boxes come from: `None` when neither a layer nor the
 /// scene's `boxes` needs them (then no ray is traced for them).
-/// `stderr`: the standard errors `render_film` returned (needed when `job.aovs` has `stderr`).
-pub fn add_layers(job: &Job, film: &mut Film, stderr: Option<&[f32]>) -> Option<Vec<Option<Hit>>> {
+/// `errors`: what `render_film` returned beside the film (needed for `stderr` and `spp`, and
+/// for `alpha` under adaptive sampling; without it those layers assume `settings.spp`
+/// everywhere, and `stderr` is left out).
+pub fn add_layers(
+    job: &Job,
+    film: &mut Film,
+    errors: Option<&PixelErrors>,
+) -> Option<Vec<Option<Hit>>> {
     let s = &job.settings;
     let hits = (job.config.boxes || job.aovs.iter().any(|&a| uses_hits(a)))
         .then(|| first_hits(&job.scene, s.width, s.height));
@@ -24,11 +31,13 @@ pub fn add_layers(job: &Job, film: &mut Film, stderr: Option<&[f32]>) -> Option<
         &job.aovs,
         &o.label_ids(),
         &o.instance_ids(),
+        errors.map(|e| e.spp.as_slice()),
     );
     film.channels.extend(floats);
     film.uint_channels.extend(ids);
-    if let (true, Some(se)) = (job.aovs.contains(&Aov::Stderr), stderr) {
-        film.channels.extend(stderr_layers(se, &job.channels));
+    if let (true, Some(e)) = (job.aovs.contains(&Aov::Stderr), errors) {
+        film.channels
+            .extend(stderr_layers(&e.stderr, &job.channels));
     }
     if job.aovs.contains(&Aov::Albedo) {
         film.channels

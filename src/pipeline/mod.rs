@@ -50,7 +50,7 @@ pub fn render(job: &Job, exposure_scale: f32, progress: &(dyn Fn(u64) + Sync)) -
             c.data.iter_mut().for_each(|v| *v *= exposure_scale);
             scaled.push(c.name.clone());
         }
-        se.iter_mut().for_each(|v| *v *= exposure_scale);
+        se.stderr.iter_mut().for_each(|v| *v *= exposure_scale);
         if stderr {
             scaled.push("stderr.*".into());
         }
@@ -190,7 +190,7 @@ pub fn header(
     vec![
         ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
         ("prism:scene".into(), scene.display().to_string()),
-        ("prism:spp".into(), s.spp.to_string()),
+        ("prism:spp".into(), s.spp_config().to_string()),
         ("prism:seed".into(), s.seed.to_string()),
         ("prism:sampler".into(), format!("{:?}", s.sampler)),
         ("prism:accel".into(), format!("{:?}", job.config.accel)),

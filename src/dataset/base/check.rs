@@ -15,8 +15,10 @@ impl Base {
         if c.frames == 0 {
             return Err(self.err("frames", "a dataset needs at least one frame"));
         }
-        if c.outputs.spp == Some(0) {
-            return Err(self.err("outputs.spp", "spp must be at least 1"));
+        if let Some(spp) = &c.outputs.spp {
+            if let Some((sub, message)) = spp.problem(self.scene.sampler.kind) {
+                return Err(self.err(&format!("outputs.spp{sub}"), message));
+            }
         }
         if matches!(c.outputs.resolution, Some((w, h)) if w == 0 || h == 0 || w > 1 << 15 || h > 1 << 15)
         {
