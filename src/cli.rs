@@ -328,7 +328,7 @@ fn default_output(scene: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}.exr"))
 }
 
-fn metadata(
+pub fn metadata(
     args: &RenderArgs,
     job: &crate::scene::Job,
     stats: &RenderStats,
