@@ -21,6 +21,19 @@ if [ ! -x "$venv/bin/python" ] || [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; 
     echo "$want" > "$stamp"
 fi
 
+# The prism Python module (python/, README "Python"): built by maturin into the venv, again
+# whenever its sources or prism's change. It builds in the release profile in the workspace's
+# target/, which the cargo steps below share, so only the module's own crate is added.
+pystamp="$venv/.prism-module.sha256"
+pywant=$(find Cargo.toml Cargo.lock build.rs src spectra python/Cargo.toml python/pyproject.toml python/src \
+    -type f -print0 | LC_ALL=C sort -z | xargs -0 cat | sha256sum | cut -d' ' -f1)
+if [ "$(cat "$pystamp" 2>/dev/null)" != "$pywant" ]; then
+    echo "== installing the prism Python module (python/) into $venv"
+    "$venv/bin/pip" install --quiet "maturin>=1.8,<2"
+    "$venv/bin/pip" install --quiet --no-build-isolation --no-deps --force-reinstall ./python
+    echo "$pywant" > "$pystamp"
+fi
+
 # Embree 3 for the `embree` feature: present when its pkg-config file or library is there.
 have_embree() {
     # No `grep -q`: it stops reading early, ldconfig then dies of SIGPIPE, and pipefail turns
@@ -46,8 +59,8 @@ fi
 
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
-echo "== cargo clippy (release, all targets, warnings are errors)"
-cargo clippy --release --all-targets --quiet -- -D warnings
+echo "== cargo clippy (release, all targets and the Python module, warnings are errors)"
+cargo clippy --release --workspace --all-targets --quiet -- -D warnings
 echo "== cargo test --release"
 # Without the feature: the Embree tests report as ignored here and run in the embree step.
 PRISM_REQUIRE_EMBREE=0 cargo test --release

@@ -118,8 +118,8 @@ pub struct Rendered {
 pub struct Cancelled;
 
 /// Renders `job` on `threads` workers (None: one per core), as `prism render`. `progress` is
-/// told each finished tile's samples; once `cancel` is set the next tile to finish unwinds the
-/// render (`resume_unwind` runs no panic hook, so nothing is printed) and `Err(Cancelled)` is
+/// told each finished tile's samples; once `cancel` is set the next tile to begin or finish
+/// unwinds the render (`resume_unwind` runs no panic hook, so nothing is printed) and `Err(Cancelled)` is
 /// returned with every buffer freed.
 pub fn render(
     job: &Job,
