@@ -30,7 +30,9 @@ pywant=$(find Cargo.toml Cargo.lock build.rs src spectra python/Cargo.toml pytho
 if [ "$(cat "$pystamp" 2>/dev/null)" != "$pywant" ]; then
     echo "== installing the prism Python module (python/) into $venv"
     "$venv/bin/pip" install --quiet "maturin>=1.8,<2"
-    "$venv/bin/pip" install --quiet --no-build-isolation --no-deps --force-reinstall ./python
+    # The venv's bin/ on PATH: without build isolation, pip runs the maturin found there.
+    PATH="$PWD/$venv/bin:$PATH" "$venv/bin/pip" install --quiet --no-build-isolation --no-deps \
+        --force-reinstall ./python
     echo "$pywant" > "$pystamp"
 fi
 
