@@ -2,6 +2,7 @@
 //! `prism render` writes them. The render steps themselves live in `glue`; this file declares the
 //! module and turns prism's errors into Python's.
 
+mod dataset;
 mod glue;
 mod load;
 mod render;
@@ -32,9 +33,11 @@ fn prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<load::Scene>()?;
     m.add_class::<render::Render>()?;
+    m.add_class::<dataset::Dataset>()?;
     m.add_function(wrap_pyfunction!(load::load_file, m)?)?;
     m.add_function(wrap_pyfunction!(load::load_string, m)?)?;
     m.add_function(wrap_pyfunction!(load::load_dict, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(dataset::run_dataset, m)?)?;
     Ok(())
 }

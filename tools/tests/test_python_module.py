@@ -285,3 +285,69 @@ def test_ctrl_c_stops_the_render(tmp_path):
     assert m, out + err
     assert float(m.group(1)) < 6.0, out
     assert "again (512, 512)" in out
+
+
+def tiny_dataset_config(tmp_path, frames=3):
+    """configs/datasets/smoke.ron at 3 frames of 16x12 px, 2 spp, its paths made absolute."""
+    d = ROOT / "configs" / "datasets"
+    text = (d / "smoke.ron").read_text()
+    text = text.replace('scene: "scenes/tabletop.ron"', f'scene: "{d / "scenes" / "tabletop.ron"}"')
+    text = text.replace('"../../scenes/textures/sky.exr"', f'"{ROOT / "scenes" / "textures" / "sky.exr"}"')
+    text = text.replace("frames: 8,", f"frames: {frames},")
+    text = text.replace("spp: 8, resolution: (64, 48)", "spp: 2, resolution: (16, 12)")
+    p = tmp_path / "tiny.ron"
+    p.write_text(text)
+    return p
+
+
+def test_run_dataset_and_read_it_back(prism_bin, tmp_path):
+    """Tolerance: none. run_dataset writes the frames `prism dataset` writes (same bits);
+    Dataset gives each frame's channels, spectral cube and sidecar as the files hold them,
+    reads a frame only when asked (a frame removed after opening fails only when read), and
+    pickles by its path (for a DataLoader's workers)."""
+    import pickle
+
+    cfg = tiny_dataset_config(tmp_path)
+    out = tmp_path / "py"
+    prism.run_dataset(cfg, out, threads=2, progress=False)
+    r = cli(prism_bin, "dataset", cfg, "-o", tmp_path / "cli", "-q", "--threads", 1)
+    assert r.returncode == 0, r.stderr
+
+    ds = prism.Dataset(out)
+    assert len(ds) == 3
+    for i in range(3):
+        f = ds[i]
+        want = read_channels(tmp_path / "cli" / f"frames/{i:06d}.exr")
+        for name, a in want.items():
+            same(f[name], a, name)
+        names = sorted((n for n in want if n.startswith("S0.")), key=lambda n: float(n[3:-2].replace(",", ".")))
+        assert f["spectral"].shape == (12, 16, len(names)) and len(names) > 0
+        for k, n in enumerate(names):
+            np.testing.assert_array_equal(f["spectral"][..., k], want[n])
+        assert f["frame"] == i
+        assert f["metadata"] == json.loads((out / f"frames/{i:06d}.json").read_text())
+        assert "frame" in f["metadata"]
+    assert ds[-1]["frame"] == 2
+
+    again = pickle.loads(pickle.dumps(ds))
+    np.testing.assert_array_equal(again[1]["R"], ds[1]["R"])
+    (out / "frames/000002.exr").unlink()
+    ds[0]
+    with pytest.raises(OSError):
+        ds[2]
+    with pytest.raises(IndexError):
+        ds[3]
+
+
+def test_run_dataset_shards_and_errors(prism_bin, tmp_path):
+    cfg = tiny_dataset_config(tmp_path, frames=4)
+    prism.run_dataset(cfg, tmp_path / "out", shard=1, num_shards=2, threads=1, progress=False)
+    assert [prism.Dataset(tmp_path / "out")[i]["frame"] for i in range(2)] == [1, 3]
+    bad = tmp_path / "bad.ron"
+    bad.write_text(cfg.read_text().replace("frames: 4,", "frames: -4,"))
+    want = cli_error(prism_bin, "dataset", bad, "-o", tmp_path / "bad_out", "-q")
+    with pytest.raises(prism.SceneError) as e:
+        prism.run_dataset(bad, tmp_path / "bad_out", progress=False)
+    assert str(e.value) == want
+    with pytest.raises(OSError, match="no dataset here"):
+        prism.Dataset(tmp_path / "nothing")
