@@ -3,7 +3,8 @@
 # tools/tests against Mitsuba 3 and colour-science, and the Embree backend (cargo feature `embree`:
 # its lints and the accelerator tests). Installs what it needs: the Python venv tools/.venv with the
 # prism_tools package (tools/pyproject.toml) and its pinned requirements (tools/requirements.txt),
-# re-installed when either file changes; and Debian's libembree-dev through apt-get when it is
+# re-installed when either file changes; the prism Python module (python/, maturin), re-installed
+# when its or prism's sources change; and Debian's libembree-dev through apt-get when it is
 # missing and this runs as root with apt available; if Embree cannot be had, only the Embree part
 # is skipped, with a loud notice.
 set -euo pipefail
