@@ -249,33 +249,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     for w in &job.warnings {
         note(format_args!("warning: {w}"));
     }
-    output::guard::check_output(&out, "-o", &job.inputs)?;
-    // The sidecar is an output too: `-o s.exr` would write `s.json` over a scene or sensor
-    // file of that name.
-    output::guard::check_output(
-        &output::sidecar::path_for(&out),
-        "-o (its sidecar .json)",
-        &job.inputs,
-    )?;
-    if let Some(p) = &args.preview {
-        output::guard::check_output(p, "--preview", &job.inputs)?;
-        if !(job
-            .channels
-            .sensor
-            .layers
-            .rgb
-            .contains(&crate::sensor::RgbSpace::Srgb)
-            || job.channels.sensor.layers.xyz)
-        {
-            return Err(crate::error::InputError::new(
-                p,
-                "a PNG preview needs the rgb or xyz output",
-            )
-            .field("--preview")
-            .hint("keep `outputs: (rgb: true)` in the scene, or drop --preview")
-            .into());
-        }
-    }
+    crate::pipeline::check_outputs(&job, &out, args.preview.as_deref())?;
     let s = &job.settings;
     // Adaptive: the most samples the render may take (pilots included).
     let per_pixel = s.spp as u64 + s.adaptive.map_or(0, |a| a.min as u64);

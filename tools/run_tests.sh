@@ -3,7 +3,8 @@
 # tools/tests against Mitsuba 3 and colour-science, and the Embree backend (cargo feature `embree`:
 # its lints and the accelerator tests). Installs what it needs: the Python venv tools/.venv with the
 # prism_tools package (tools/pyproject.toml) and its pinned requirements (tools/requirements.txt),
-# re-installed when either file changes; and Debian's libembree-dev through apt-get when it is
+# re-installed when either file changes; the prism Python module (python/, maturin), re-installed
+# when its or prism's sources change; and Debian's libembree-dev through apt-get when it is
 # missing and this runs as root with apt available; if Embree cannot be had, only the Embree part
 # is skipped, with a loud notice.
 set -euo pipefail
@@ -19,6 +20,21 @@ if [ ! -x "$venv/bin/python" ] || [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; 
     "$venv/bin/pip" install --quiet --upgrade pip
     "$venv/bin/pip" install --quiet -r tools/requirements.txt -e tools
     echo "$want" > "$stamp"
+fi
+
+# The prism Python module (python/, README "Python"): built by maturin into the venv, again
+# whenever its sources or prism's change. It builds in the release profile in the workspace's
+# target/, which the cargo steps below share, so only the module's own crate is added.
+pystamp="$venv/.prism-module.sha256"
+pywant=$(find Cargo.toml Cargo.lock build.rs src spectra python/Cargo.toml python/pyproject.toml python/src \
+    -type f -print0 | LC_ALL=C sort -z | xargs -0 cat | sha256sum | cut -d' ' -f1)
+if [ "$(cat "$pystamp" 2>/dev/null)" != "$pywant" ]; then
+    echo "== installing the prism Python module (python/) into $venv"
+    "$venv/bin/pip" install --quiet "maturin>=1.8,<2"
+    # The venv's bin/ on PATH: without build isolation, pip runs the maturin found there.
+    PATH="$PWD/$venv/bin:$PATH" "$venv/bin/pip" install --quiet --no-build-isolation --no-deps \
+        --force-reinstall ./python
+    echo "$pywant" > "$pystamp"
 fi
 
 # Embree 3 for the `embree` feature: present when its pkg-config file or library is there.
@@ -46,8 +62,8 @@ fi
 
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
-echo "== cargo clippy (release, all targets, warnings are errors)"
-cargo clippy --release --all-targets --quiet -- -D warnings
+echo "== cargo clippy (release, all targets and the Python module, warnings are errors)"
+cargo clippy --release --workspace --all-targets --quiet -- -D warnings
 echo "== cargo test --release"
 # Without the feature: the Embree tests report as ignored here and run in the embree step.
 PRISM_REQUIRE_EMBREE=0 cargo test --release

@@ -65,7 +65,8 @@ pub struct RenderStats {
 
 const TILE: u32 = 16;
 
-/// Renders `scene`; `progress` is called with the number of camera samples each finished tile took.
+/// Renders `scene`; `progress` is called with the number of camera samples each finished tile took
+/// (and with 0 as each tile begins).
 pub fn render(
     scene: &Scene,
     settings: &RenderSettings,
@@ -136,6 +137,9 @@ fn render_lanes<const N: usize, const SE: bool>(
     let results: Vec<TileOut> = tiles
         .par_iter()
         .map(|&(x0, y0)| {
+            // A call before the tile's work too: a caller stopping the render (the Python
+            // module's Ctrl-C unwinds from it) skips the tiles not yet begun.
+            progress(0);
             let r = render_tile::<N, SE>(
                 scene,
                 settings,

@@ -85,6 +85,34 @@ pub struct Files<'a> {
     pub preview: Option<(&'a Path, f32)>,
 }
 
+/// Checks a render's outputs before it starts: the EXR at `exr`, its sidecar and the preview
+/// are never one of the scene's inputs (nor a link, FIFO or folder: `guard::check_output`), and
+/// a preview has colour to show.
+pub fn check_outputs(job: &Job, exr: &Path, preview: Option<&Path>) -> Result<(), Error> {
+    output::guard::check_output(exr, "-o", &job.inputs)?;
+    // The sidecar is an output too: `-o s.exr` would write `s.json` over a scene or sensor
+    // file of that name.
+    output::guard::check_output(
+        &output::sidecar::path_for(exr),
+        "-o (its sidecar .json)",
+        &job.inputs,
+    )?;
+    if let Some(p) = preview {
+        output::guard::check_output(p, "--preview", &job.inputs)?;
+        let layers = &job.channels.sensor.layers;
+        if !(layers.rgb.contains(&crate::sensor::RgbSpace::Srgb) || layers.xyz) {
+            return Err(crate::error::InputError::new(
+                p,
+                "a PNG preview needs the rgb or xyz output",
+            )
+            .field("--preview")
+            .hint("keep `outputs: (rgb: true)` in the scene, or drop --preview")
+            .into());
+        }
+    }
+    Ok(())
+}
+
 /// Writes the EXR, the JSON sidecar beside it and the preview, each atomically; returns them
 /// in that order.
 pub fn write(job: &Job, r: &Rendered, files: &Files) -> Result<Vec<PathBuf>, Error> {

@@ -1,0 +1,195 @@
+//! `prism.Dataset(path)`: the finished frames of a `prism dataset` output, read lazily (only
+//! `ds[i]` reads frame i), picklable by its path for a PyTorch `DataLoader`'s workers; and
+//! `prism.run_dataset`, which runs `prism dataset` in this process.
+
+use crate::to_py;
+use numpy::{PyArray1, PyArrayMethods};
+use prism_core::dataset::cli::DatasetArgs;
+use prism_core::pipeline::WorkerArgs;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+
+#[pyclass(frozen, module = "prism")]
+pub struct Dataset {
+    root: PathBuf,
+    /// The frames the manifest lists as finished, in increasing order.
+    frames: Vec<u32>,
+}
+
+/// The frame numbers of every manifest line that parses (a torn last line after a crash is
+/// skipped, as prism_tools does).
+fn finished_frames(root: &std::path::Path) -> std::io::Result<Vec<u32>> {
+    let text = std::fs::read_to_string(root.join("manifest.jsonl"))?;
+    let set: BTreeSet<u32> = text
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter_map(|v| v.get("frame")?.as_u64())
+        .map(|f| f as u32)
+        .collect();
+    Ok(set.into_iter().collect())
+}
+
+#[pymethods]
+impl Dataset {
+    #[new]
+    fn new(path: PathBuf) -> PyResult<Self> {
+        let frames = finished_frames(&path).map_err(|e| {
+            pyo3::exceptions::PyOSError::new_err(format!(
+                "{}: no dataset here ({e}); `prism dataset CONFIG -o {}` makes one",
+                path.join("manifest.jsonl").display(),
+                path.display()
+            ))
+        })?;
+        Ok(Dataset { root: path, frames })
+    }
+
+    fn __len__(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// Frame `i` of the finished ones: every EXR channel by name (float32, uint32 for ids,
+    /// height × width), `spectral` (height × width × bands) with `wavelengths`, `frame` (its
+    /// number) and `metadata` (its sidecar, the sampled parameters under `frame`).
+    fn __getitem__<'py>(&self, py: Python<'py>, i: isize) -> PyResult<Bound<'py, PyDict>> {
+        let n = self.frames.len() as isize;
+        let k = if i < 0 { i + n } else { i };
+        if !(0..n).contains(&k) {
+            return Err(pyo3::exceptions::PyIndexError::new_err(format!(
+                "frame index {i} out of range for {n} finished frames"
+            )));
+        }
+        let frame = self.frames[k as usize];
+        let base = self.root.join(format!("frames/{frame:06}"));
+        let exr = base.with_extension("exr");
+        let channels = py
+            .detach(|| read_exr(&exr))
+            .map_err(|e| pyo3::exceptions::PyOSError::new_err(format!("{}: {e}", exr.display())))?;
+        let side = std::fs::read_to_string(base.with_extension("json"))
+            .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
+        let d = PyDict::new(py);
+        let mut bands: Vec<(f32, Vec<f32>)> = Vec::new();
+        let mut shape = [0usize; 2];
+        for (name, w, h, data) in channels {
+            shape = [h, w];
+            match data {
+                Samples::F32(v) => {
+                    if let Some(nm) = spectral_nm(&name) {
+                        bands.push((nm, v.clone()));
+                    }
+                    d.set_item(&name, PyArray1::from_vec(py, v).reshape(shape)?)?;
+                }
+                Samples::U32(v) => d.set_item(&name, PyArray1::from_vec(py, v).reshape(shape)?)?,
+            }
+        }
+        bands.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let px = shape[0] * shape[1];
+        let mut cube = Vec::with_capacity(px * bands.len());
+        for p in 0..px {
+            cube.extend(bands.iter().map(|b| b.1[p]));
+        }
+        let wl: Vec<f32> = bands.iter().map(|b| b.0).collect();
+        let cube = PyArray1::from_vec(py, cube).reshape([shape[0], shape[1], bands.len()])?;
+        d.set_item("spectral", cube)?;
+        d.set_item("wavelengths", PyArray1::from_vec(py, wl))?;
+        d.set_item("frame", frame)?;
+        d.set_item(
+            "metadata",
+            py.import("json")?.call_method1("loads", (side,))?,
+        )?;
+        Ok(d)
+    }
+
+    /// Pickled as its path: a `DataLoader` worker opens its own.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, (PathBuf,))> {
+        Ok((slf.get_type().into_any(), (slf.get().root.clone(),)))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<prism.Dataset {} ({} frames)>",
+            self.root.display(),
+            self.frames.len()
+        )
+    }
+}
+
+/// `S0.550,000000nm` (Fichet et al. 2021, zero-padded or not) → 550.
+fn spectral_nm(name: &str) -> Option<f32> {
+    let v = name.strip_prefix("S0.")?.strip_suffix("nm")?;
+    v.replace(',', ".").parse().ok()
+}
+
+enum Samples {
+    F32(Vec<f32>),
+    U32(Vec<u32>),
+}
+
+/// Every channel of the EXR as (full name, width, height, samples); half floats widened.
+fn read_exr(path: &std::path::Path) -> Result<Vec<(String, usize, usize, Samples)>, String> {
+    use exr::prelude::*;
+    let img = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| e.to_string())?;
+    let mut out = Vec::new();
+    for layer in img.layer_data {
+        let (w, h) = (layer.size.width(), layer.size.height());
+        let prefix = layer.attributes.layer_name.map(|n| format!("{n}."));
+        for ch in layer.channel_data.list {
+            let name = format!("{}{}", prefix.as_deref().unwrap_or(""), ch.name);
+            let s = match ch.sample_data {
+                FlatSamples::F32(v) => Samples::F32(v),
+                FlatSamples::F16(v) => Samples::F32(v.iter().map(|x| x.to_f32()).collect()),
+                FlatSamples::U32(v) => Samples::U32(v),
+            };
+            out.push((name, w, h, s));
+        }
+    }
+    Ok(out)
+}
+
+/// Runs `prism dataset CONFIG -o OUT [--shard S --num-shards N --threads T]` in this process
+/// (resumable, as the command); raises `SceneError` for a bad config and `RuntimeError` when
+/// a frame failed.
+#[pyfunction]
+#[pyo3(signature = (config, out, shard=None, num_shards=None, threads=None, progress=true))]
+pub fn run_dataset(
+    py: Python<'_>,
+    config: PathBuf,
+    out: PathBuf,
+    shard: Option<u32>,
+    num_shards: Option<u32>,
+    threads: Option<usize>,
+    progress: bool,
+) -> PyResult<()> {
+    let args = DatasetArgs {
+        config,
+        output: out,
+        frames: None,
+        export_frame: None,
+        shard,
+        num_shards,
+        check: false,
+        force: false,
+        workers: WorkerArgs {
+            threads,
+            quiet: !progress,
+        },
+    };
+    let code = py
+        .detach(|| prism_core::dataset::cli::main(&args))
+        .map_err(to_py)?;
+    if code != 0 {
+        return Err(pyo3::exceptions::PyRuntimeError::new_err(format!(
+            "some frames of {} failed (see the messages above); a rerun retries them",
+            args.config.display()
+        )));
+    }
+    Ok(())
+}

@@ -1,0 +1,144 @@
+//! The module's one contact with prism's render steps: load → (overrides) → the one render
+//! pipeline (`prism::pipeline`, as `prism render` and `prism dataset` use it), so the same
+//! arguments give the same bits and the same files.
+
+use prism_core::error::{Error, InputError};
+use prism_core::load::Job;
+use prism_core::output;
+use prism_core::pipeline;
+pub use prism_core::pipeline::Rendered;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Where a scene came from: a file is reloaded as the CLI loads it when render arguments
+/// change the config; text and dicts are rebuilt from their parsed config.
+#[derive(Clone)]
+pub enum Source {
+    File(PathBuf),
+    Config(Box<prism_core::config::SceneConfig>),
+}
+
+/// The render arguments the module takes, as `prism render`'s flags.
+#[derive(Clone, Default)]
+pub struct Overrides {
+    pub spp: Option<u32>,
+    pub seed: Option<u64>,
+    pub aovs: Option<Vec<String>>,
+    pub sensor: Option<PathBuf>,
+    pub threads: Option<usize>,
+}
+
+impl Overrides {
+    /// Whether the scene must be rebuilt (the thread count changes nothing in the config).
+    pub fn change_config(&self) -> bool {
+        self.spp.is_some() || self.seed.is_some() || self.aovs.is_some() || self.sensor.is_some()
+    }
+
+    /// The CLI's edit of the parsed config for these flags (src/cli.rs `render`).
+    fn edit(&self, cfg: &mut prism_core::config::SceneConfig) {
+        if let Some(spp) = self.spp {
+            cfg.sampler.spp = prism_core::config::Spp::Fixed(spp);
+        }
+        if let Some(seed) = self.seed {
+            cfg.sampler.seed = seed;
+        }
+        if let Some(p) = &self.sensor {
+            cfg.sensor = Some(prism_core::load::sensor::cli_override(p));
+            cfg.outputs = Default::default();
+        }
+        if let Some(a) = &self.aovs {
+            cfg.aovs = a.iter().filter(|n| !n.is_empty()).cloned().collect();
+        }
+    }
+}
+
+/// Loads a scene file as `prism render` does (RON or glTF by its name).
+pub fn load_file(path: &Path, o: &Overrides) -> Result<Job, Error> {
+    prism_core::resources::configure(None, o.threads);
+    prism_core::load::load(path, |cfg| o.edit(cfg))
+}
+
+/// Builds a scene from a parsed config; `file` names it in errors and anchors relative paths.
+pub fn build(
+    mut cfg: prism_core::config::SceneConfig,
+    file: &Path,
+    o: &Overrides,
+) -> Result<Job, Error> {
+    prism_core::resources::configure(None, o.threads);
+    o.edit(&mut cfg);
+    Ok(prism_core::load::build(cfg, file)?)
+}
+
+/// Rebuilds `source` with the overrides applied.
+pub fn rebuild(source: &Source, file: &Path, o: &Overrides) -> Result<Job, Error> {
+    match source {
+        Source::File(p) => load_file(p, o),
+        Source::Config(cfg) => build((**cfg).clone(), file, o),
+    }
+}
+
+/// The render was stopped (Ctrl-C): raised through the workers by `progress` and caught here.
+pub struct Cancelled;
+
+/// Renders `job` on `threads` workers (None: one per core), as `prism render`. `progress` is
+/// told each finished tile's samples; once `cancel` is set the next tile to begin or finish
+/// unwinds the render (`resume_unwind` runs no panic hook, so nothing is printed) and `Err(Cancelled)` is
+/// returned with every buffer freed.
+pub fn render(
+    job: &Job,
+    file: &Path,
+    threads: Option<usize>,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Result<Rendered, Cancelled>, Error> {
+    let pool = pipeline::worker_pool(threads, file)?;
+    let tick = |n: u64| {
+        if cancel.load(Ordering::Relaxed) {
+            std::panic::resume_unwind(Box::new(Cancelled));
+        }
+        progress(n)
+    };
+    let run = std::panic::AssertUnwindSafe(|| pool.install(|| pipeline::render(job, 1.0, &tick)));
+    match std::panic::catch_unwind(run) {
+        Ok(r) => Ok(Ok(r)),
+        Err(p) if p.is::<Cancelled>() => Ok(Err(Cancelled)),
+        Err(p) => std::panic::resume_unwind(p),
+    }
+}
+
+/// Writes the EXR at `out`, its sidecar beside it and, with `preview`, the PNG, as `prism
+/// render -o out [--preview preview --exposure exposure]` does, with the same checks first:
+/// names, and never over one of the scene's inputs.
+pub fn write(
+    job: &Job,
+    r: &Rendered,
+    file: &Path,
+    out: &Path,
+    preview: Option<&Path>,
+    exposure: f32,
+) -> Result<(), Error> {
+    if !exposure.is_finite() {
+        return Err(InputError::new(
+            file,
+            format!("exposure {exposure} is not a finite number of stops"),
+        )
+        .field("exposure")
+        .hint("give a number such as exposure=-1.5")
+        .into());
+    }
+    output::guard::check_names(out, preview)?;
+    pipeline::check_outputs(job, out, preview)?;
+    let files = pipeline::Files {
+        scene: file,
+        exr: out,
+        sidecar: pipeline::Sidecar::Render,
+        preview: preview.map(|p| (p, exposure)),
+    };
+    pipeline::write(job, r, &files)?;
+    Ok(())
+}
+
+/// The sidecar's JSON for a render written to `out`.
+pub fn sidecar(job: &Job, r: &Rendered, file: &Path, out: &Path) -> serde_json::Value {
+    output::sidecar::value(job, file, out, r.hits.as_deref(), &r.stats, r.seconds)
+}

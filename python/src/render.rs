@@ -1,0 +1,214 @@
+//! `prism.render(scene, ...)` and the `Render` it returns: the film as numpy arrays, the sidecar
+//! as a dict, and `write` for the files `prism render` writes.
+
+use crate::glue::{self, Overrides, Rendered};
+use crate::load::Scene;
+use crate::to_py;
+use numpy::{PyArray1, PyArrayMethods};
+use prism_core::load::Job;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{mpsc, Arc};
+use std::time::Duration;
+
+/// How often the calling thread looks for Ctrl-C while the workers render.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// A finished render.
+#[pyclass(frozen, module = "prism")]
+pub struct Render {
+    job: Arc<Job>,
+    r: Rendered,
+    file: PathBuf,
+}
+
+/// Renders `scene` as `prism render` does with the same flags (same bits): `spp`, `seed`
+/// override the scene's sampler; `aovs` names the layers to render instead of the scene's
+/// (empty: the scene's own); `sensor` is a sensor file replacing the scene's; `threads` the
+/// workers (None: one per core). The GIL is released while rendering, and Ctrl-C stops the
+/// render and raises `KeyboardInterrupt`.
+#[pyfunction]
+#[pyo3(signature = (scene, spp=None, seed=None, threads=None, aovs=Vec::new(), sensor=None, progress=true))]
+#[allow(clippy::too_many_arguments)]
+pub fn render(
+    py: Python<'_>,
+    scene: &Scene,
+    spp: Option<u32>,
+    seed: Option<u64>,
+    threads: Option<usize>,
+    aovs: Vec<String>,
+    sensor: Option<PathBuf>,
+    progress: bool,
+) -> PyResult<Render> {
+    if spp == Some(0) {
+        let e = prism_core::error::InputError::new(&scene.file, "--spp must be at least 1");
+        return Err(to_py(e.into()));
+    }
+    let o = Overrides {
+        spp,
+        seed,
+        aovs: (!aovs.is_empty()).then_some(aovs),
+        sensor,
+        threads,
+    };
+    let job = scene.job_for(py, &o)?;
+    let file = scene.file.clone();
+    let s = &job.settings;
+    let bar = progress_bar(progress, s.width as u64 * s.height as u64 * s.spp as u64);
+    let cancel = AtomicBool::new(false);
+    let result = std::thread::scope(|sc| -> PyResult<_> {
+        let (tx, rx) = mpsc::channel();
+        let (job, file, cancel, bar) = (&job, &file, &cancel, &bar);
+        sc.spawn(move || {
+            let r = glue::render(job, file, threads, cancel, &|n| bar.inc(n));
+            let _ = tx.send(r);
+        });
+        // The workers render without the GIL; this thread takes it back now and then only to
+        // let Python run its signal handlers (Ctrl-C), which must run on the main thread.
+        let mut rx = rx;
+        loop {
+            let (got, back) = py.detach(move || (rx.recv_timeout(SIGNAL_POLL), rx));
+            rx = back;
+            match got {
+                Ok(r) => return Ok(r),
+                Err(mpsc::RecvTimeoutError::Timeout) => {}
+                Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                        "the render thread stopped without a result",
+                    ))
+                }
+            }
+            if let Err(e) = py.check_signals() {
+                cancel.store(true, Ordering::Relaxed);
+                // Wait for the workers to unwind before the scene they read can go.
+                let _ = py.detach(move || rx.recv());
+                return Err(e);
+            }
+        }
+    });
+    bar.finish_and_clear();
+    let r = match result?.map_err(to_py)? {
+        Ok(r) => r,
+        Err(glue::Cancelled) => {
+            return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(
+                "render cancelled",
+            ))
+        }
+    };
+    Ok(Render { job, r, file })
+}
+
+/// A bar on a terminal; hidden elsewhere (and when `progress` is false).
+fn progress_bar(progress: bool, total: u64) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !(progress && std::io::stderr().is_terminal()) {
+        return indicatif::ProgressBar::hidden();
+    }
+    let b = indicatif::ProgressBar::new(total);
+    if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}%  ETA {eta}")
+    {
+        b.set_style(style);
+    }
+    b
+}
+
+#[pymethods]
+impl Render {
+    /// Every EXR channel by name: float32 (uint32 for the id layers), height × width.
+    #[getter]
+    fn channels<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let f = &self.r.film;
+        let shape = [f.height as usize, f.width as usize];
+        let d = PyDict::new(py);
+        for c in &f.channels {
+            d.set_item(&c.name, PyArray1::from_slice(py, &c.data).reshape(shape)?)?;
+        }
+        for c in &f.uint_channels {
+            d.set_item(&c.name, PyArray1::from_slice(py, &c.data).reshape(shape)?)?;
+        }
+        Ok(d)
+    }
+
+    /// The spectral bands as one float32 array, height × width × bands (None without bands).
+    #[getter]
+    fn spectral<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let f = &self.r.film;
+        let sensor = &self.job.channels.sensor;
+        let Some(b) = sensor.bands() else {
+            return Ok(None);
+        };
+        let bands: Vec<&[f32]> = (0..b.count)
+            .filter_map(|k| f.channel(&sensor.band_name(k)))
+            .collect();
+        let n = (f.width * f.height) as usize;
+        let mut cube = Vec::with_capacity(n * bands.len());
+        for i in 0..n {
+            cube.extend(bands.iter().map(|c| c[i]));
+        }
+        let shape = [f.height as usize, f.width as usize, bands.len()];
+        Ok(Some(
+            PyArray1::from_vec(py, cube).reshape(shape)?.into_any(),
+        ))
+    }
+
+    /// The centre wavelength (nm) of each band of `spectral`.
+    #[getter]
+    fn wavelengths<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f32>> {
+        let b = self.job.channels.sensor.bands();
+        let centres: Vec<f32> =
+            b.map_or(Vec::new(), |b| (0..b.count).map(|k| b.center(k)).collect());
+        PyArray1::from_vec(py, centres)
+    }
+
+    /// The sidecar as a dict (its `image` is None until `write` names the file).
+    #[getter]
+    fn sidecar<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let v = glue::sidecar(&self.job, &self.r, &self.file, Path::new(""));
+        py.import("json")?.call_method1("loads", (v.to_string(),))
+    }
+
+    /// Samples taken, invalid (NaN/inf) samples and render seconds.
+    #[getter]
+    fn stats(&self) -> (u64, u64, f64) {
+        (
+            self.r.stats.samples,
+            self.r.stats.invalid_samples,
+            self.r.seconds,
+        )
+    }
+
+    /// Writes the EXR at `path`, its sidecar (`.json`) beside it and, with `preview`, an 8-bit
+    /// PNG at `exposure` stops, exactly as `prism render -o path [--preview ...]` writes them.
+    #[pyo3(signature = (path, preview=None, exposure=0.0))]
+    fn write(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        preview: Option<PathBuf>,
+        exposure: f32,
+    ) -> PyResult<()> {
+        py.detach(|| {
+            glue::write(
+                &self.job,
+                &self.r,
+                &self.file,
+                &path,
+                preview.as_deref(),
+                exposure,
+            )
+        })
+        .map_err(to_py)
+    }
+
+    fn __repr__(&self) -> String {
+        let f = &self.r.film;
+        format!(
+            "<prism.Render {}x{}, {} channels>",
+            f.width,
+            f.height,
+            f.channels.len() + f.uint_channels.len()
+        )
+    }
+}
