@@ -270,7 +270,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         "rendered {}x{} at {} spp ({:.1} Msamples) in {:.2} s ({:.2} Msamples/s, {} thread{}); scene load {:.2} s; {} invalid samples{} -> {}",
         s.width,
         s.height,
-        s.spp_config(),
+        crate::config::Spp::of(s),
         stats.samples as f64 / 1e6,
         render_s,
         msps,

@@ -8,10 +8,47 @@
 //! pilot in, or stopping when the running error is small, would not be: the count would then
 //! depend on the samples it averages (tested in `tests/adaptive.rs`).
 
-use crate::config::{AdaptiveSpp, ErrorTarget};
 use crate::math::rng::hash3;
 use crate::sampler::SamplerKind;
 use crate::sensor::{Sensor, XYZ_SLOTS};
+use serde::{Deserialize, Serialize};
+
+/// Render each pixel until the standard error of its estimate is below `rel_error` of its
+/// value: a pilot batch of `min` samples (from a stream of its own, then discarded) gives the
+/// pixel's variance, which sets the count n of a fresh batch that alone is the estimate, so the
+/// count never depends on the samples it averages (unbiased; `integrator::adaptive`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdaptiveSpp {
+    /// Target standard error over value, e.g. 0.01.
+    pub rel_error: f32,
+    /// Pilot samples per pixel (at least 2), and the fewest the estimate takes.
+    pub min: u32,
+    /// The most samples the estimate takes.
+    pub max: u32,
+    /// Which estimates must meet the target: `Y` (default) or every spectral band (`Bands`).
+    #[serde(default)]
+    pub target: ErrorTarget,
+    /// Values below this count as this when the relative error is formed (radiance units,
+    /// default 0.001), so near-black pixels stop at an absolute error of rel_error × floor
+    /// instead of running to `max`.
+    #[serde(default = "default_floor")]
+    pub floor: f32,
+}
+
+fn default_floor() -> f32 {
+    1e-3
+}
+
+/// What `Adaptive` measures the error of.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ErrorTarget {
+    /// The luminance Y.
+    #[default]
+    Y,
+    /// Every spectral band of the sensor (the worst one decides).
+    Bands,
+}
 
 /// The seed of every pixel's pilot stream: a hash of the render seed, so that no pilot sample
 /// is a sample of any pixel's ordinary stream.

@@ -31,7 +31,7 @@ pub struct RenderSettings {
     /// Samples per pixel; with `adaptive`, the most a pixel's estimate takes.
     pub spp: u32,
     /// Adaptive sampling (`adaptive`): each pixel's count from a pilot batch of its own.
-    pub adaptive: Option<crate::config::AdaptiveSpp>,
+    pub adaptive: Option<adaptive::AdaptiveSpp>,
     pub seed: u64,
     pub sampler: SamplerKind,
     /// Wavelengths per path (one of `SUPPORTED_LANES`).
@@ -40,16 +40,6 @@ pub struct RenderSettings {
     pub filter: Filter,
     pub path: PathSettings,
     pub dispersion: Dispersion,
-}
-
-impl RenderSettings {
-    /// The samples per pixel as the scene wrote them.
-    pub fn spp_config(&self) -> crate::config::Spp {
-        match self.adaptive {
-            Some(a) => crate::config::Spp::Adaptive(a),
-            None => crate::config::Spp::Fixed(self.spp),
-        }
-    }
 }
 
 /// What a render measured about itself.

@@ -233,7 +233,7 @@ pub fn value(
             "scene_file": scene_file,
             "scene_sha256": scene_hash,
             "files": files,
-            "spp": s.spp_config(),
+            "spp": crate::config::Spp::of(s),
             "seed": s.seed,
             "sampler": format!("{:?}", s.sampler),
             "wavelengths": {"per_path": s.lanes, "sampling": format!("{:?}", s.wavelengths.kind()), "range_nm": [lo, hi]},

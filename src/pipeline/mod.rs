@@ -218,7 +218,7 @@ pub fn header(
     vec![
         ("prism:version".into(), env!("CARGO_PKG_VERSION").into()),
         ("prism:scene".into(), scene.display().to_string()),
-        ("prism:spp".into(), s.spp_config().to_string()),
+        ("prism:spp".into(), crate::config::Spp::of(s).to_string()),
         ("prism:seed".into(), s.seed.to_string()),
         ("prism:sampler".into(), format!("{:?}", s.sampler)),
         ("prism:accel".into(), format!("{:?}", job.config.accel)),
