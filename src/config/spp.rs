@@ -138,6 +138,14 @@ impl<'de> Visitor<'de> for SppVisitor {
         }
     }
 
+    /// `spp: 1.5`: the words the parser gives any integer field a fraction (config/parse.rs).
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Spp, E> {
+        Err(E::custom(format!(
+            "expected an integer, got {v}; spp counts samples: write a whole number, e.g. 64, \
+             or Adaptive(rel_error: 0.01, min: 16, max: 4096)"
+        )))
+    }
+
     fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Spp, A::Error> {
         AdaptiveSpp::deserialize(MapAccessDeserializer::new(map)).map(Spp::Adaptive)
     }
