@@ -56,7 +56,8 @@ pub enum ShapeKind {
     /// scene, placed by its node tree and then by `to_world`, with its materials, its emissive
     /// materials as area lights and (unless `lights: false`) its KHR_lights_punctual lights.
     /// `materials` replaces glTF materials by name with the scene's own; the shape's `material`
-    /// replaces them all.
+    /// replaces them all. The buffer and image URIs the file names must lie in its folder
+    /// (below it) unless `allow_outside: true`.
     ///
     /// ```ron
     /// Gltf(path: "models/car.glb", materials: {"Paint": "red metal"}, lights: false)
@@ -67,6 +68,11 @@ pub enum ShapeKind {
         materials: BTreeMap<String, String>,
         #[serde(default = "yes")]
         lights: bool,
+        /// Lets buffer and image URIs leave the model's folder (`../shared.bin`, absolute
+        /// paths, `file:` URIs); off, such a URI is refused, as a model from elsewhere could
+        /// otherwise read any file the user can.
+        #[serde(default)]
+        allow_outside: bool,
     },
 }
 

@@ -96,11 +96,18 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         "camera.fov",
         format!("fov {} must lie in (0, 180) degrees", c.fov),
     )?;
+    // Parallel rays may start on the camera's plane (glTF's orthographic znear may be 0);
+    // perspective rays start on the near plane, which must lie in front of the pinhole.
+    let ortho = matches!(c.model, config::CameraModel::Orthographic { .. });
     check(
-        c.near_clip.is_finite() && c.near_clip > 0.0,
+        c.near_clip.is_finite() && (c.near_clip > 0.0 || ortho && c.near_clip == 0.0),
         file,
         "camera.near_clip",
-        format!("near_clip {} must be > 0", c.near_clip),
+        format!(
+            "near_clip {} must be > 0{}",
+            c.near_clip,
+            if ortho { " (or 0, orthographic)" } else { "" }
+        ),
     )?;
     check(
         c.far_clip > c.near_clip,

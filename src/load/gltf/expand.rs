@@ -60,13 +60,14 @@ pub fn expand(
         path,
         materials: overrides,
         lights,
+        allow_outside,
     } = &sc.shape
     else {
         unreachable!("expand is called for glTF shapes only")
     };
     let t = crate::load::transform(&sc.to_world, file, &format!("{field}.to_world"))?;
     let full = base.join(path);
-    let model = super::take_or_open(&full).map_err(|e| {
+    let model = super::take_or_open(&full, *allow_outside).map_err(|e| {
         let hint = e.hint.clone().unwrap_or_default();
         e.hint(format!("{hint} (included by {} {field})", file.display()).trim_start())
     })?;

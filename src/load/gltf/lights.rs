@@ -221,6 +221,7 @@ pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), Inp
             path: file_name.to_string(),
             materials: BTreeMap::new(),
             lights: true,
+            allow_outside: false,
         },
         material: None,
         emitter: None,

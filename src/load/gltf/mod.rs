@@ -8,6 +8,7 @@
 //! Every problem a user can fix (bad JSON, a missing buffer or image, an extension prism cannot
 //! decode) is an `InputError` naming the glTF file and the JSON field.
 
+mod accessors;
 mod checks;
 mod emission;
 mod expand;
@@ -15,6 +16,7 @@ mod lights;
 mod materials;
 mod nodes;
 mod unread;
+mod uris;
 
 use crate::error::InputError;
 use crate::io::input_file::{self, Kind};
@@ -90,8 +92,9 @@ pub fn with_model<R>(model: Model, f: impl FnOnce() -> R) -> R {
     r
 }
 
-/// The model at `path`: the one `with_model` holds if it is that file, else read now.
-fn take_or_open(path: &Path) -> Result<Model, InputError> {
+/// The model at `path`: the one `with_model` holds if it is that file, else read now
+/// (`allow_outside`: as `open_with`).
+fn take_or_open(path: &Path, allow_outside: bool) -> Result<Model, InputError> {
     let pre = PRELOADED.with(|p| {
         let mut p = p.borrow_mut();
         if p.as_ref().is_some_and(|m| m.path == path) {
@@ -102,12 +105,19 @@ fn take_or_open(path: &Path) -> Result<Model, InputError> {
     });
     match pre {
         Some(m) => Ok(m),
-        None => open(path),
+        None => open_with(path, allow_outside),
     }
 }
 
-/// Reads and checks a `.gltf` or `.glb` file, its buffers and images.
+/// Reads and checks a `.gltf` or `.glb` file, its buffers and images, which must lie in its
+/// folder (`open_with`).
 pub fn open(path: &Path) -> Result<Model, InputError> {
+    open_with(path, false)
+}
+
+/// As `open`; with `allow_outside` (the shape's `allow_outside: true`) its buffer and image
+/// URIs may name files outside the model's folder.
+pub fn open_with(path: &Path, allow_outside: bool) -> Result<Model, InputError> {
     #[cfg(test)]
     OPENED.with(|n| n.set(n.get() + 1));
     crate::io::inputs::record(path);
@@ -178,6 +188,7 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
     }
     check_position_indices(path, &json)?;
     checks::check_values(path, &json)?;
+    accessors::check_extents(path, &json)?;
     let root: gltf::json::Root = serde_json::from_value(json).map_err(|e| {
         InputError::new(path, format!("not a valid glTF 2.0 document: {e}"))
             .hint("check the file with the Khronos glTF validator")
@@ -210,7 +221,14 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
             gltf::buffer::Source::Uri(u) if u.starts_with("data:") => "its data URI".to_string(),
             gltf::buffer::Source::Uri(u) => {
                 crate::io::inputs::record(&base.join(u));
-                check_external(path, base, u, Kind::Gltf, &format!("{field}.uri"))?;
+                uris::check_external(
+                    path,
+                    base,
+                    u,
+                    Kind::Gltf,
+                    &format!("{field}.uri"),
+                    allow_outside,
+                )?;
                 format!("\"{u}\"")
             }
             gltf::buffer::Source::Bin => "the GLB's BIN chunk".to_string(),
@@ -237,6 +255,7 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
         }
         buffers.push(data);
     }
+    accessors::check_sparse(path, &doc, &buffers)?;
     let mut images = Vec::new();
     for im in doc.images() {
         let field = format!("images[{}]", im.index());
@@ -246,7 +265,14 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
             }
             gltf::image::Source::Uri { uri, .. } => {
                 crate::io::inputs::record(&base.join(uri));
-                check_external(path, base, uri, Kind::Texture, &format!("{field}.uri"))?;
+                uris::check_external(
+                    path,
+                    base,
+                    uri,
+                    Kind::Texture,
+                    &format!("{field}.uri"),
+                    allow_outside,
+                )?;
                 format!("\"{uri}\"")
             }
             gltf::image::Source::View { view, .. } => format!("bufferViews[{}]", view.index()),
@@ -268,40 +294,6 @@ pub fn open(path: &Path) -> Result<Model, InputError> {
         images,
         path: path.to_path_buf(),
         ignored_extensions,
-    })
-}
-
-/// Checks the file an external buffer or image URI names before the crate reads it: a regular
-/// file within `kind`'s limit (a FIFO or `/dev/zero` would block or be read until memory runs
-/// out), and a relative URI whose percent-decoding is UTF-8 (the crate unwraps that decoding).
-/// A URI of another scheme is left to the crate, which refuses it.
-fn check_external(
-    path: &Path,
-    base: &Path,
-    uri: &str,
-    kind: Kind,
-    field: &str,
-) -> Result<(), InputError> {
-    let file = if let Some(rest) = uri.strip_prefix("file://").or(uri.strip_prefix("file:")) {
-        PathBuf::from(rest)
-    } else if uri.contains(':') {
-        return Ok(());
-    } else {
-        match urlencoding::decode(uri) {
-            Ok(p) => base.join(&*p),
-            Err(_) => {
-                return Err(err(
-                    path,
-                    field,
-                    format!("the URI \"{uri}\" does not decode to UTF-8 text"),
-                )
-                .hint("URIs are percent-encoded UTF-8 (RFC 3986): re-export the model, or rename the file it names"))
-            }
-        }
-    };
-    input_file::open(&file, kind).map(drop).map_err(|e| {
-        err(path, field, e)
-            .hint("external files are relative to the glTF file: keep them beside it")
     })
 }
 

@@ -4,6 +4,7 @@
 use super::lights::{self, GltfCamera, GltfLight};
 use super::Model;
 use crate::error::InputError;
+use crate::load::extent;
 use crate::math::Transform;
 use crate::shape::{Instance, Mesh};
 use glam::{Mat4, Vec2, Vec3};
@@ -106,6 +107,9 @@ pub fn walk_with(
             return Err(InputError::new(path, "the node's transform is not finite").field(field));
         }
         let world = parent * local;
+        // Nodes at 1e30 are finite but overflow the 32-bit geometry (as OBJ's `extent` check).
+        let at = world.w_axis.truncate();
+        extent::check_point(at, path, &field, "the node (its translation in the world)")?;
         if let Some(cam) = node.camera() {
             w.cameras.push(lights::camera(&cam, world, node.name()));
         }
@@ -126,6 +130,7 @@ pub fn walk_with(
                 .field(&field)
                 .hint("give every node a non-zero scale")
             })?;
+            extent::check_transform(&t, path, &field)?;
             // A mirroring transform turns the winding around (glTF 2.0 §3.7.4: front faces
             // follow the determinant's sign).
             let mirror = world.determinant() < 0.0;
@@ -144,9 +149,15 @@ pub fn walk_with(
                     negate_normals: false,
                     swap_winding: mirror,
                 };
+                let vertex = format!("a vertex placed by {field}");
+                let source = format!(
+                    "meshes[{}].primitives[{}].attributes.POSITION",
+                    key.0, key.1
+                );
                 if instancing && uses[mesh.index()] > 1 {
                     for p in &local_mesh.positions {
                         let p = t.point(*p);
+                        extent::check_point(p, path, &source, &vertex)?;
                         let b = w.bounds.get_or_insert((p, p));
                         *b = (b.0.min(p), b.1.max(p));
                     }
@@ -166,6 +177,7 @@ pub fn walk_with(
                     m.indices.iter_mut().for_each(|tri| tri.swap(1, 2));
                 }
                 for p in &m.positions {
+                    extent::check_point(*p, path, &source, &vertex)?;
                     let b = w.bounds.get_or_insert((*p, *p));
                     *b = (b.0.min(*p), b.1.max(*p));
                 }
