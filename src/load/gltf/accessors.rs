@@ -25,8 +25,8 @@ fn component_size(component_type: Option<u64>) -> u64 {
     }
 }
 
-/// The byte size of one element of accessor `a`.
-fn element_size(a: &Value) -> u64 {
+/// The byte size of one element of accessor `a` (also the least byteStride, `checks.rs`).
+pub(super) fn element_size(a: &Value) -> u64 {
     let n = match a.get("type").and_then(Value::as_str) {
         Some("SCALAR") => 1,
         Some("VEC2") => 2,

@@ -313,26 +313,13 @@ fn check_strides(path: &Path, json: &Value) -> Result<(), InputError> {
         else {
             continue;
         };
-        let size = match a.get("componentType").and_then(Value::as_u64) {
-            Some(5120 | 5121) => 1,
-            Some(5122 | 5123) => 2,
-            _ => 4,
-        };
-        let count = match a.get("type").and_then(Value::as_str) {
-            Some("SCALAR") => 1,
-            Some("VEC2") => 2,
-            Some("VEC3") => 3,
-            Some("VEC4" | "MAT2") => 4,
-            Some("MAT3") => 9,
-            _ => 16,
-        };
-        if stride < size * count {
+        let size = super::accessors::element_size(a);
+        if stride < size {
             return Err(err(
                 path,
                 format!("accessors[{i}]"),
                 format!(
-                    "its buffer view's byteStride {stride} is less than its element's {} bytes",
-                    size * count
+                    "its buffer view's byteStride {stride} is less than its element's {size} bytes"
                 ),
             )
             .hint("re-export the model (the file breaks the specification's byteStride rule), or check it with the Khronos glTF validator"));
