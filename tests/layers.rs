@@ -244,3 +244,108 @@ fn the_reader_sees_groups_and_skips_comments_and_tests() {
     let got: Vec<String> = names(&strip(text)).into_iter().collect();
     assert_eq!(got, ["a", "b", "c", "f"]);
 }
+
+/// What `config` may name from below: settings enums and structs the schema deserialises into,
+/// the error type, and the one door for reading the scene file itself. An engine value that is
+/// built (a `Curve`, a texture, an `Ior`) is the loader's: its name here fails the test.
+const CONFIG_MAY_NAME: &[&str] = &[
+    "accel::AccelKind",
+    "camera::FovAxis",
+    "filter::FilterConfig",
+    "integrator::Dispersion",
+    "integrator::PathSettings",
+    "integrator::RenderSettings",
+    "integrator::adaptive::AdaptiveSpp",
+    "integrator::adaptive::ErrorTarget",
+    "sampler::SamplerKind",
+    "sampler::SOBOL_MAX_SPP",
+    "spectrum::WavelengthSampling",
+    "bsdf::microfacet::Distribution",
+    "texture::TexFilter",
+    "texture::Wrap",
+    "sensor::raw::BayerPattern",
+    "sensor::raw::Gain",
+    "sensor::Observer",
+    "sensor::RgbSpace",
+    "error::Error",
+    "error::InputError",
+    "io::inputs::record",
+    "io::input_file::read",
+    "io::input_file::Kind",
+];
+
+/// The full paths after `crate::` in `text`, groups expanded (`a::{b, c::d}` → `a::b`, `a::c::d`).
+fn crate_paths(text: &str) -> Vec<String> {
+    fn expand(prefix: &str, s: &str, out: &mut Vec<String>) -> usize {
+        // Reads one path starting at s; returns the bytes consumed.
+        let mut path = prefix.to_string();
+        let mut i = 0;
+        loop {
+            let rest = &s[i..];
+            let rest_trim = rest.trim_start();
+            i += rest.len() - rest_trim.len();
+            if let Some(group) = rest_trim.strip_prefix('{') {
+                i += 1;
+                let mut k = 0;
+                loop {
+                    let g = &group[k..];
+                    let t = g.trim_start_matches(|c: char| c.is_whitespace() || c == ',');
+                    k += g.len() - t.len();
+                    if t.starts_with('}') || t.is_empty() {
+                        return i + k + 1;
+                    }
+                    k += expand(&path, t, out);
+                }
+            }
+            let id = ident(rest_trim);
+            if id.is_empty() {
+                break;
+            }
+            if !path.is_empty() {
+                path.push_str("::");
+            }
+            path.push_str(id);
+            i += id.len();
+            match s[i..].strip_prefix("::") {
+                Some(_) => i += 2,
+                None => break,
+            }
+        }
+        out.push(path);
+        i
+    }
+    let mut out = Vec::new();
+    for (i, _) in text.match_indices("crate::") {
+        expand("", &text[i + "crate::".len()..], &mut out);
+    }
+    out
+}
+
+/// `config` is the RON schema and builds nothing: every engine name it uses is a settings type
+/// in `CONFIG_MAY_NAME` (the resolvers of spectra, textures and indices live in `load/`).
+#[test]
+fn config_names_settings_and_builds_nothing() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/config");
+    let mut files = Vec::new();
+    rust_files(&dir, &mut files);
+    let mut problems = Vec::new();
+    for f in files {
+        for p in crate_paths(&strip(&std::fs::read_to_string(&f).unwrap())) {
+            // `crate::io::input_file::Kind::Scene` names the variant of an allowed enum.
+            let allowed = CONFIG_MAY_NAME
+                .iter()
+                .any(|a| p == *a || p.starts_with(&format!("{a}::")));
+            if !p.starts_with("config") && !allowed {
+                problems.push(format!("{}: crate::{p}", f.display()));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "config builds engine values:\n{}", problems.join("\n"));
+}
+
+/// The path reader: groups, nesting and a path that ends in a call.
+#[test]
+fn crate_paths_expand_groups() {
+    let got = crate_paths("use crate::a::{B, c::{D, e::F}};\nlet x = crate::g::h(1);");
+    assert_eq!(got, ["a::B", "a::c::D", "a::c::e::F", "g::h"]);
+}

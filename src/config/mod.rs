@@ -12,7 +12,6 @@
 //! ```
 
 pub mod camera;
-pub mod colour_space;
 mod emitter;
 pub mod ior;
 mod material;
@@ -34,18 +33,13 @@ pub use emitter::EmitterConfig;
 pub use ior::{IorConfig, IorForm, MAX_IOR, MIN_IOR};
 pub(crate) use material::unit_scale;
 pub use material::{FloatConfig, FloatTextureConfig, MaterialConfig};
+pub(crate) use parse::utf8;
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
 pub use shape::{AreaEmitterConfig, ShapeConfig, ShapeKind, TransformOp};
-pub use spectrum::{Context as SpectrumContext, Role, SpectrumConfig, MAX_EMISSION};
+pub use spectrum::{SpectrumConfig, MAX_EMISSION};
 pub use spp::{AdaptiveSpp, ErrorTarget, Spp};
 use std::collections::BTreeMap;
-use std::path::Path;
-
-/// The context in which a spectrum field is resolved (for errors and relative paths).
-pub fn spectrum_ctx<'a>(file: &'a Path, field: &'a str, range: (f32, f32)) -> SpectrumContext<'a> {
-    SpectrumContext { file, field, range }
-}
 
 /// A whole scene file.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]

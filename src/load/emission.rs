@@ -9,10 +9,10 @@
 //! the scale is uplifted texel by texel as an illuminant, as an `Rgb` radiance is
 //! (`emitter::radiance`). Textured lights must be triangle meshes (Rectangle, Cube, Mesh).
 
-use crate::config::spectrum::{uv_map, MAX_EMISSION};
-use crate::config::{spectrum_ctx, Role, SpectrumConfig};
+use crate::config::{SpectrumConfig, MAX_EMISSION};
 use crate::emitter::{AreaRadiance, EmissionTexture};
 use crate::error::InputError;
+use crate::load::spectrum::{spectrum_ctx, uv_map, Role};
 use crate::shape::Shape;
 use crate::spectrum::gamut::Gamut;
 use crate::texture;
@@ -63,7 +63,7 @@ pub fn area_radiance(
         return Err(err(format!("the scale {scale} must be finite and ≥ 0")));
     }
     let gamut = match gamut {
-        Some(name) => crate::config::colour_space::by_name(file, field, name)?,
+        Some(name) => crate::load::colour_space::by_name(file, field, name)?,
         None => Gamut::Srgb,
     };
     let full = file.parent().unwrap_or(Path::new(".")).join(path);

@@ -2,10 +2,11 @@
 
 use super::check::{check, finite3};
 use super::geometry::transform;
-use crate::config::{spectrum_ctx, EmitterConfig, Role, SpectrumConfig};
+use crate::config::{EmitterConfig, SpectrumConfig};
 use crate::emitter::Emitter;
 use crate::emitter::{EnvMap, Spot};
 use crate::error::InputError;
+use crate::load::{spectrum_ctx, Role};
 use crate::texture;
 use glam::{Mat3, Vec3};
 use std::path::Path;
@@ -129,7 +130,7 @@ pub fn emitter(
             to_world,
         } => {
             let gamut = match colour_space {
-                Some(name) => crate::config::colour_space::by_name(
+                Some(name) => crate::load::colour_space::by_name(
                     file,
                     &format!("{field}.colour_space"),
                     name,
@@ -183,11 +184,11 @@ pub fn emitter(
                 )));
             }
             let peak = img.pixels.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
-            if peak * scale > crate::config::spectrum::MAX_EMISSION {
+            if peak * scale > crate::config::MAX_EMISSION {
                 return Err(err(format!(
                     "`{}`'s brightest texel, {peak:e}, times scale {scale} exceeds the {:e} prism accepts",
                     full.display(),
-                    crate::config::spectrum::MAX_EMISSION
+                    crate::config::MAX_EMISSION
                 ))
                 .hint("the radiance would overflow 32-bit floats while the map is sampled; scale the map down"));
             }

@@ -5,8 +5,9 @@ mod scalars;
 
 use crate::bsdf::microfacet::Microfacet;
 use crate::bsdf::{fresnel, roughplastic, Material, MAX_LOBES};
-use crate::config::{spectrum_ctx, MaterialConfig, Role};
+use crate::config::MaterialConfig;
 use crate::error::InputError;
+use crate::load::{spectrum_ctx, Role};
 use crate::spectrum::Ior;
 use interfaces::{conductor, plastic_eta, relative_ior, specular, specular_weight};
 pub(super) use scalars::float;

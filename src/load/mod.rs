@@ -6,16 +6,19 @@
 mod build;
 mod camera;
 mod check;
+pub mod colour_space;
 mod emission;
 mod emitters;
 pub mod extent;
 mod geometry;
 pub mod gltf;
 pub mod instancing;
+pub mod ior;
 mod materials;
 mod objects;
 mod principled;
 pub mod sensor;
+pub mod spectrum;
 
 /// The input-file record, as the loader's modules name it (`super::inputs`).
 use crate::io::inputs;
@@ -24,3 +27,4 @@ use crate::scene::Scene;
 pub use build::{build, load, load_str, Job};
 pub use geometry::transform;
 pub use objects::{Object, Objects};
+pub use spectrum::{spectrum_ctx, Context as SpectrumContext, Role};

@@ -2,8 +2,9 @@
 
 use super::materials::float;
 use crate::bsdf::{Material, PrincipledParams};
-use crate::config::{spectrum_ctx, FloatConfig, Role, SpectrumConfig};
+use crate::config::{FloatConfig, SpectrumConfig};
 use crate::error::InputError;
+use crate::load::{spectrum_ctx, Role};
 use crate::spectrum::Curve;
 use std::path::Path;
 

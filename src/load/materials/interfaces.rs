@@ -2,8 +2,9 @@
 //! specular factors.
 
 use crate::bsdf::ConductorParams;
-use crate::config::{spectrum_ctx, IorConfig, Role, SpectrumConfig};
+use crate::config::{IorConfig, SpectrumConfig};
 use crate::error::InputError;
+use crate::load::{spectrum_ctx, Role};
 use crate::spectrum::{metals, Curve, RelativeIor};
 use crate::texture::SpectralTexture;
 use std::path::Path;

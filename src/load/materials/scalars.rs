@@ -1,8 +1,9 @@
 //! A material's scalar parameters: microfacet roughnesses (numbers in (0, 1] or textures) and
 //! [0, 1] weights and opacities.
 
-use crate::config::{spectrum::uv_map, spectrum_ctx, FloatConfig, FloatTextureConfig};
+use crate::config::{FloatConfig, FloatTextureConfig};
 use crate::error::InputError;
+use crate::load::spectrum::{spectrum_ctx, uv_map};
 use crate::texture::{self, FloatTexture, TexelRange};
 use std::path::Path;
 

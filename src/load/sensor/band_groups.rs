@@ -3,8 +3,8 @@
 
 use super::At;
 use crate::config::sensor::BandConfig;
-use crate::config::{spectrum_ctx, Role};
 use crate::error::InputError;
+use crate::load::{spectrum_ctx, Role};
 use crate::sensor::bands::{Response, Shape};
 use crate::sensor::{Bands, ChannelName};
 

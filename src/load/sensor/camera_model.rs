@@ -3,8 +3,8 @@
 
 use super::At;
 use crate::config::sensor::{CameraConfig, CameraCurves, WhiteBalance};
-use crate::config::{spectrum_ctx, Role};
 use crate::error::InputError;
+use crate::load::{spectrum_ctx, Role};
 use crate::sensor::camera::{self, CameraModel, CAMERAS};
 use crate::sensor::Observer;
 use crate::spectrum::{data, Curve};

@@ -16,7 +16,7 @@ impl SpectrumConfig {
             }
             SpectrumConfig::Rgb(r, g, b) => rgb_curve([*r, *g, *b], Gamut::Srgb, role, ctx)?,
             SpectrumConfig::ColourSpace(name, inner) => {
-                let gamut = crate::config::colour_space::gamut(ctx, name)?;
+                let gamut = crate::load::colour_space::gamut(ctx, name)?;
                 match **inner {
                     SpectrumConfig::Rgb(r, g, b) => rgb_curve([r, g, b], gamut, role, ctx)?,
                     SpectrumConfig::Bitmap { .. } => {
@@ -66,7 +66,7 @@ impl SpectrumConfig {
                         let hint = "paths are relative to the scene file";
                         crate::io::inputs::missing_hint(ctx.err(m), &full, hint)
                     })?;
-                let text = crate::config::parse::utf8(bytes, &full)?;
+                let text = crate::config::utf8(bytes, &full)?;
                 let t = table::parse(&text).map_err(|e| {
                     InputError::new(&full, e.message.clone())
                         .at(e.line, 1)
