@@ -40,7 +40,7 @@
 //!     the same way), "scale", "to_world"}
 //! ```
 
-use crate::bsdf::{microfacet::Distribution, Material};
+use crate::bsdf::{microfacet::Distribution, Material, Param};
 use crate::emitter::{AreaRadiance, Emitter};
 use crate::error::Error;
 use crate::filter::Filter;
@@ -196,100 +196,27 @@ impl Ctx {
         }
     }
 
+    /// A material by Mitsuba 3's plugin and parameter names, as the material lists them.
     fn material(&self, m: &Material) -> Value {
-        match m {
-            Material::Diffuse { reflectance } => {
-                json!({"type": "diffuse", "reflectance": self.texture(reflectance)})
-            }
-            Material::Twosided { front, back } => {
-                json!({"type": "twosided", "front": self.material(front), "back": self.material(back)})
-            }
-            Material::Blend { a, b, weight } => {
-                json!({"type": "blend", "weight": self.float_texture(weight), "bsdf0": self.material(a), "bsdf1": self.material(b)})
-            }
-            Material::Mask { inner, opacity } => {
-                json!({"type": "mask", "opacity": self.float_texture(opacity), "bsdf": self.material(inner)})
-            }
-            // Conductors.
-            Material::Conductor(p) => {
-                json!({"type": "conductor", "eta": self.spectrum(&p.eta), "k": self.spectrum(&p.k),
-                       "specular_reflectance": self.texture(&p.specular_reflectance)})
-            }
-            Material::RoughConductor {
-                params: p,
-                distribution,
-                alpha_u,
-                alpha_v,
-            } => {
-                json!({"type": "roughconductor", "eta": self.spectrum(&p.eta), "k": self.spectrum(&p.k),
-                       "specular_reflectance": self.texture(&p.specular_reflectance),
-                       "distribution": distribution_name(*distribution),
-                       "alpha_u": self.float_texture(alpha_u), "alpha_v": self.float_texture(alpha_v)})
-            }
-            // Dielectrics.
-            Material::Dielectric {
-                ior,
-                specular_reflectance,
-                specular_transmittance,
-            } => {
-                let mut v = json!({"type": "dielectric",
-                    "specular_reflectance": self.texture(specular_reflectance),
-                    "specular_transmittance": self.texture(specular_transmittance)});
-                self.iors(ior, &mut v);
-                v
-            }
-            Material::RoughDielectric {
-                ior,
-                distribution,
-                alpha_u,
-                alpha_v,
-                specular_reflectance,
-                specular_transmittance,
-            } => {
-                let mut v = json!({"type": "roughdielectric",
-                    "specular_reflectance": self.texture(specular_reflectance),
-                    "specular_transmittance": self.texture(specular_transmittance),
-                    "distribution": distribution_name(*distribution),
-                    "alpha_u": self.float_texture(alpha_u), "alpha_v": self.float_texture(alpha_v)});
-                self.iors(ior, &mut v);
-                v
-            }
-            Material::ThinDielectric {
-                ior,
-                specular_reflectance,
-                specular_transmittance,
-            } => {
-                let mut v = json!({"type": "thindielectric",
-                    "specular_reflectance": self.texture(specular_reflectance),
-                    "specular_transmittance": self.texture(specular_transmittance)});
-                self.iors(ior, &mut v);
-                v
-            }
-            // Plastics.
-            Material::Plastic {
-                diffuse,
-                specular,
-                eta,
-                nonlinear,
-                ..
-            } => json!({"type": "plastic", "diffuse_reflectance": self.texture(diffuse),
-                "specular_reflectance": self.texture(specular), "int_ior": eta, "ext_ior": 1.0, "nonlinear": nonlinear}),
-            Material::RoughPlastic {
-                diffuse,
-                specular,
-                eta,
-                microfacet,
-                nonlinear,
-                ..
-            } => json!({"type": "roughplastic", "diffuse_reflectance": self.texture(diffuse),
-                "specular_reflectance": self.texture(specular), "int_ior": eta, "ext_ior": 1.0, "nonlinear": nonlinear,
-                "distribution": distribution_name(microfacet.kind), "alpha": microfacet.alpha_u}),
-            // glTF's metallic-roughness model (Mitsuba's `principled` is a different model).
-            Material::Principled(p) => json!({"type": "gltf_principled",
-                "base_color": self.texture(&p.base_color), "metallic": self.float_texture(&p.metallic),
-                "roughness": self.float_texture(&p.roughness), "f0_ior": p.f0_ior,
-                "specular": self.float_texture(&p.specular), "specular_color": self.spectrum(&p.specular_color),
-                "specular_color_max": p.specular_color_max, "transmission": self.float_texture(&p.transmission)}),
+        let mut v = json!({});
+        let kind = m.traverse(&mut |name, p| match p {
+            Param::Ior(ior) => self.iors(ior, &mut v),
+            p => v[name] = self.param(p),
+        });
+        v["type"] = json!(kind);
+        v
+    }
+
+    fn param(&self, p: Param) -> Value {
+        match p {
+            Param::Texture(t) => self.texture(t),
+            Param::Float(t) => self.float_texture(t),
+            Param::Spectrum(c) => self.spectrum(c),
+            Param::Number(x) => json!(x),
+            Param::Bool(b) => json!(b),
+            Param::Distribution(d) => json!(distribution_name(d)),
+            Param::Bsdf(m) => self.material(m),
+            Param::Ior(_) => unreachable!("written by `iors`, in `material`"),
         }
     }
 

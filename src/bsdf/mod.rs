@@ -19,6 +19,7 @@
 //! lanes by spectral MIS with them (Wilkie et al. 2014).
 
 mod conductor;
+mod describe;
 pub mod dielectric;
 mod diffuse;
 pub mod fresnel;
@@ -35,6 +36,7 @@ pub mod roughplastic;
 pub mod thindielectric;
 
 pub use conductor::{Conductor, ConductorParams};
+pub use describe::Param;
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use hit::{Bsdf, BsdfLike, BsdfSample};

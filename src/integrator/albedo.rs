@@ -1,10 +1,7 @@
 //! The `albedo` AOV: the diffuse reflectance spectrum of the material at each pixel-centre hit
 //! (the analogue of Mitsuba 3's `albedo` AOV, which reports `eval_diffuse_reflectance`), with
-//! textures evaluated at the hit's uv. Definition (scenes/README.md, "AOVs"):
-//! - `diffuse`: its reflectance; `plastic`, `roughplastic`: the diffuse base's reflectance
-//!   (before the coating); `principled`: base colour × (1 − metallic) × (1 − transmission);
-//! - `twosided`: the side the camera ray meets; `blend`: (1 − w)·a + w·b; `mask`: opacity·inner;
-//! - conductors and dielectrics (no diffuse part): 0; background: 0.
+//! textures evaluated at the hit's uv. Each material defines its own
+//! (`Material::diffuse_reflectance`, scenes/README.md "AOVs"); background: 0.
 //!
 //! `albedo.R/G/B`: linear sRGB of the reflectance seen under D65, sRGB's white
 //! (XYZ = ∫ρ·D65·cmf dλ / ∫D65·ȳ dλ, CIE 1931 observer, then XYZ → sRGB), so a constant ρ gives
@@ -12,44 +9,11 @@
 //! the film's band channels (`albedo.S0.<λ>nm`).
 
 use super::aov::Hit;
-use crate::bsdf::Material;
 use crate::film::Channel;
 use crate::scene::Scene;
-use crate::spectrum::{color, Wavelengths};
-use glam::{Vec2, Vec3};
+use crate::spectrum::color;
+use glam::Vec3;
 use rayon::prelude::*;
-
-/// ρ(λ) of `m` at texture coordinates `uv`; `front`: the camera meets the shading normal's side.
-fn rho(m: &Material, uv: Vec2, front: bool, lambda: f32) -> f32 {
-    let wl = Wavelengths::<1> {
-        lambda: [lambda],
-        pdf: [1.0],
-    };
-    match m {
-        Material::Diffuse { reflectance } => reflectance.eval(uv, &wl)[0],
-        Material::Plastic { diffuse, .. } | Material::RoughPlastic { diffuse, .. } => {
-            diffuse.eval(uv, &wl)[0]
-        }
-        Material::Principled(p) => {
-            let keep = (1.0 - p.metallic.eval(uv).clamp(0.0, 1.0))
-                * (1.0 - p.transmission.eval(uv).clamp(0.0, 1.0));
-            p.base_color.eval(uv, &wl)[0] * keep
-        }
-        Material::Twosided { front: f, back: b } => {
-            rho(if front { f } else { b }, uv, front, lambda)
-        }
-        Material::Blend { a, b, weight } => {
-            let w = weight.eval(uv);
-            (1.0 - w) * rho(a, uv, front, lambda) + w * rho(b, uv, front, lambda)
-        }
-        Material::Mask { inner, opacity } => opacity.eval(uv) * rho(inner, uv, front, lambda),
-        Material::Conductor(_)
-        | Material::RoughConductor { .. }
-        | Material::Dielectric { .. }
-        | Material::RoughDielectric { .. }
-        | Material::ThinDielectric { .. } => 0.0,
-    }
-}
 
 /// Weights w_c(λ_i) on the CMF's 1 nm grid (trapezoid rule) with Σ_i w_c(λ_i)·ρ(λ_i) the
 /// colour c of ρ under D65, normalised so that ρ = 1 gives Y = 1.
@@ -95,7 +59,7 @@ pub fn layers(scene: &Scene, hits: &[Option<Hit>], sensor: &crate::sensor::Senso
             let mut v = vec![0.0f32; 3 + nb];
             let Some(h) = h else { return v };
             let m = &scene.materials[scene.shape_material[h.shape as usize] as usize];
-            let f = |l: f32| rho(m, h.uv, h.front, l);
+            let f = |l: f32| m.diffuse_reflectance(h.uv, h.front, l);
             let mut xyz = [0.0f64; 3];
             for (l, w) in &weights {
                 let r = f(*l) as f64;
