@@ -68,3 +68,32 @@ fn d65() -> SpectrumConfig {
 fn twenty() -> f32 {
     20.0
 }
+
+/// What an emitter emits: a spectrum, or (an environment map) the scale of its image.
+pub enum Emission<'a> {
+    Spectrum(&'a mut SpectrumConfig),
+    Scale(&'a mut f32),
+}
+
+impl EmitterConfig {
+    /// What the emitter emits, for a dataset's light variations.
+    pub fn emission_mut(&mut self) -> Emission<'_> {
+        match self {
+            EmitterConfig::Point { intensity, .. } | EmitterConfig::Spot { intensity, .. } => {
+                Emission::Spectrum(intensity)
+            }
+            EmitterConfig::Constant { radiance } => Emission::Spectrum(radiance),
+            EmitterConfig::Directional { irradiance, .. } => Emission::Spectrum(irradiance),
+            EmitterConfig::Envmap { scale, .. } => Emission::Scale(scale),
+        }
+    }
+
+    /// The path of the image file an emitter reads itself (an environment map's), if any;
+    /// the files of its spectrum are the spectrum's (`emission_mut`).
+    pub fn file_mut(&mut self) -> Option<&mut String> {
+        match self {
+            EmitterConfig::Envmap { filename, .. } => Some(filename),
+            _ => None,
+        }
+    }
+}

@@ -1,10 +1,14 @@
-//! Materials in the scene file (Mitsuba 3's BSDF names and parameters) and their scalar
-//! parameters; `load::materials` turns them into `bsdf::Material`s.
+//! Materials in the scene file (Mitsuba 3's BSDF names and parameters); `load::materials` turns
+//! them into `bsdf::Material`s. Each material answers for its fields in `fields` (`Field`), so
+//! a dataset variation or a path rewrite never matches on the material kinds.
+
+mod fields;
+
+pub use fields::Field;
 
 use super::shape::one;
-use super::{IorConfig, SpectrumConfig};
+use super::{FloatConfig, IorConfig, SpectrumConfig};
 use crate::bsdf::microfacet::Distribution;
-use crate::texture::{TexFilter, Wrap};
 use serde::{Deserialize, Serialize};
 
 /// A material (Mitsuba 3's BSDF names and parameters).
@@ -249,59 +253,4 @@ fn full_reflectance() -> SpectrumConfig {
 
 fn half() -> FloatConfig {
     FloatConfig::Value(0.5)
-}
-
-/// A scalar parameter: a number, or a texture (`Checkerboard(...)`, `Bitmap(...)`, whose
-/// luminance is used).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(
-    untagged,
-    expecting = "a number, or a texture: Checkerboard(value0: .., value1: ..) or Bitmap(path: \"...\")"
-)]
-pub enum FloatConfig {
-    Value(f32),
-    Texture(FloatTextureConfig),
-}
-
-/// Textured scalar parameters.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum FloatTextureConfig {
-    /// `value0` where frac(u) and frac(v) fall in the same half, else `value1` (defaults 0.4, 0.2).
-    Checkerboard {
-        #[serde(default = "point_four")]
-        value0: f32,
-        #[serde(default = "point_two")]
-        value1: f32,
-        #[serde(default = "unit_scale")]
-        uv_scale: (f32, f32),
-        #[serde(default)]
-        uv_offset: (f32, f32),
-    },
-    /// The luminance of an image (PNG, JPEG, EXR or HDR), relative to the scene file.
-    Bitmap {
-        path: String,
-        #[serde(default)]
-        filter: TexFilter,
-        #[serde(default)]
-        wrap: Wrap,
-        #[serde(default)]
-        raw: bool,
-        #[serde(default = "unit_scale")]
-        uv_scale: (f32, f32),
-        #[serde(default)]
-        uv_offset: (f32, f32),
-    },
-}
-
-fn point_four() -> f32 {
-    0.4
-}
-
-fn point_two() -> f32 {
-    0.2
-}
-
-pub(crate) fn unit_scale() -> (f32, f32) {
-    (1.0, 1.0)
 }

@@ -13,6 +13,7 @@
 
 pub mod camera;
 mod emitter;
+mod float;
 pub mod ior;
 mod material;
 mod parse;
@@ -29,10 +30,11 @@ use crate::integrator::{Dispersion, PathSettings};
 use crate::sampler::SamplerKind;
 use crate::spectrum::WavelengthSampling;
 pub use camera::{CameraModel, DistortionConfig, IntrinsicsConfig};
-pub use emitter::EmitterConfig;
+pub use emitter::{Emission, EmitterConfig};
+pub(crate) use float::unit_scale;
+pub use float::{FloatConfig, FloatTextureConfig};
 pub use ior::{IorConfig, IorForm, MAX_IOR, MIN_IOR};
-pub(crate) use material::unit_scale;
-pub use material::{FloatConfig, FloatTextureConfig, MaterialConfig};
+pub use material::{Field, MaterialConfig};
 pub(crate) use parse::utf8;
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};

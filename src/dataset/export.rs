@@ -2,7 +2,7 @@
 //! reproduces from anywhere (every file path made absolute).
 
 use crate::config::{
-    EmitterConfig, FloatConfig, FloatTextureConfig, IorConfig, IorForm, MaterialConfig,
+    Emission, Field, FloatConfig, FloatTextureConfig, IorConfig, IorForm, MaterialConfig,
     SceneConfig, ShapeKind, SpectrumConfig,
 };
 use ron::extensions::Extensions;
@@ -29,13 +29,11 @@ pub fn rebase(mut cfg: SceneConfig, dir: &Path) -> SceneConfig {
         material(m, &abs);
     }
     for e in &mut cfg.emitters {
-        match e {
-            EmitterConfig::Envmap { filename, .. } => abs(filename),
-            EmitterConfig::Point { intensity, .. } | EmitterConfig::Spot { intensity, .. } => {
-                spectrum(intensity, &abs)
-            }
-            EmitterConfig::Constant { radiance } => spectrum(radiance, &abs),
-            EmitterConfig::Directional { irradiance, .. } => spectrum(irradiance, &abs),
+        if let Some(file) = e.file_mut() {
+            abs(file);
+        }
+        if let Emission::Spectrum(s) = e.emission_mut() {
+            spectrum(s, &abs);
         }
     }
     cfg
@@ -68,119 +66,11 @@ fn ior(i: &mut IorConfig, abs: &impl Fn(&mut String)) {
 }
 
 fn material(m: &mut MaterialConfig, abs: &impl Fn(&mut String)) {
-    use MaterialConfig as M;
-    match m {
-        M::Diffuse { reflectance } => spectrum(reflectance, abs),
-        M::Twosided { bsdf, back } => {
-            material(bsdf, abs);
-            if let Some(b) = back {
-                material(b, abs);
-            }
-        }
-        M::Blend {
-            weight,
-            bsdf0,
-            bsdf1,
-        } => {
-            float(weight, abs);
-            material(bsdf0, abs);
-            material(bsdf1, abs);
-        }
-        M::Mask { opacity, bsdf } => {
-            float(opacity, abs);
-            material(bsdf, abs);
-        }
-        M::Conductor {
-            eta,
-            k,
-            specular_reflectance,
-            ..
-        } => {
-            for s in [eta, k].into_iter().flatten() {
-                spectrum(s, abs);
-            }
-            spectrum(specular_reflectance, abs);
-        }
-        M::RoughConductor {
-            alpha,
-            alpha_u,
-            alpha_v,
-            eta,
-            k,
-            specular_reflectance,
-            ..
-        } => {
-            for f in [alpha, alpha_u, alpha_v].into_iter().flatten() {
-                float(f, abs);
-            }
-            for s in [eta, k].into_iter().flatten() {
-                spectrum(s, abs);
-            }
-            spectrum(specular_reflectance, abs);
-        }
-        M::Dielectric {
-            int_ior,
-            ext_ior,
-            specular_reflectance,
-            specular_transmittance,
-        }
-        | M::ThinDielectric {
-            int_ior,
-            ext_ior,
-            specular_reflectance,
-            specular_transmittance,
-        } => {
-            ior(int_ior, abs);
-            ior(ext_ior, abs);
-            spectrum(specular_reflectance, abs);
-            spectrum(specular_transmittance, abs);
-        }
-        M::RoughDielectric {
-            alpha,
-            alpha_u,
-            alpha_v,
-            int_ior,
-            ext_ior,
-            specular_reflectance,
-            specular_transmittance,
-            ..
-        } => {
-            for f in [alpha, alpha_u, alpha_v].into_iter().flatten() {
-                float(f, abs);
-            }
-            ior(int_ior, abs);
-            ior(ext_ior, abs);
-            spectrum(specular_reflectance, abs);
-            spectrum(specular_transmittance, abs);
-        }
-        M::Plastic {
-            diffuse_reflectance,
-            specular_reflectance,
-            ..
-        }
-        | M::RoughPlastic {
-            diffuse_reflectance,
-            specular_reflectance,
-            ..
-        } => {
-            spectrum(diffuse_reflectance, abs);
-            spectrum(specular_reflectance, abs);
-        }
-        M::Principled {
-            base_color,
-            metallic,
-            roughness,
-            specular_color,
-            transmission,
-            ..
-        } => {
-            spectrum(base_color, abs);
-            spectrum(specular_color, abs);
-            for f in [metallic, roughness, transmission] {
-                float(f, abs);
-            }
-        }
-    }
+    m.for_each_field(&mut |f| match f {
+        Field::Spectrum(s) => spectrum(s, abs),
+        Field::Float(x) => float(x, abs),
+        Field::Ior(n) => ior(n, abs),
+    });
 }
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //! out-of-range ranges, missing files), made at load, before any frame.
 
 use super::{Base, LightRef};
-use crate::config::EmitterConfig;
+use crate::config::{EmitterConfig, MaterialConfig};
 use crate::dataset::config::{LookAtVariation, ReflectanceSource};
 use crate::dataset::library;
 use crate::error::InputError;
@@ -185,7 +185,15 @@ impl Base {
                     ));
                 }
                 if crate::dataset::apply::reflectance_slot(&mut mat.clone()).is_none() {
-                    return Err(self.err(&format!("{f}.reflectance"), format!("material \"{}\" has no base reflectance to vary", m.target)).hint("reflectances vary on Diffuse, Plastic, RoughPlastic, Conductor and RoughConductor (also inside Twosided)"));
+                    return Err(self
+                        .err(
+                            &format!("{f}.reflectance"),
+                            format!("material \"{}\" has no base reflectance to vary", m.target),
+                        )
+                        .hint(format!(
+                            "reflectances vary on {}",
+                            MaterialConfig::WITH_BASE_REFLECTANCE
+                        )));
                 }
             }
             if let Some(r) = m.roughness {
@@ -196,9 +204,10 @@ impl Base {
                             &format!("{f}.roughness"),
                             format!("material \"{}\" has no roughness", m.target),
                         )
-                        .hint(
-                            "roughness varies on RoughConductor, RoughDielectric and RoughPlastic",
-                        ));
+                        .hint(format!(
+                            "roughness varies on {}",
+                            MaterialConfig::WITH_ROUGHNESS
+                        )));
                 }
             }
             if let Some(r) = m.ior {
@@ -209,7 +218,10 @@ impl Base {
                             &format!("{f}.ior"),
                             format!("material \"{}\" has no interior IOR", m.target),
                         )
-                        .hint("the IOR varies on the dielectrics and plastics"));
+                        .hint(format!(
+                            "the IOR varies on {}",
+                            MaterialConfig::WITH_INT_IOR
+                        )));
                 }
             }
         }
