@@ -4,8 +4,11 @@
 //! ../shared/tools/layers.py does: comments, a file's trailing `#[cfg(test)]` module and files
 //! named `tests.rs` / `*_tests.rs` are left out (a test may build what its module cannot).
 
+mod source;
+
+use source::{ident, rust_files, strip};
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Lowest floor first. A module not listed here fails the test: place a new module on purpose.
 const FLOORS: &[(&str, &[&str])] = &[
@@ -45,38 +48,6 @@ const FLOORS: &[(&str, &[&str])] = &[
     ("front", &["cli", "probe"]),
 ];
 
-/// Comments and the trailing test module removed, as layers.py does.
-fn strip(text: &str) -> String {
-    let mut t = text.to_string();
-    if let Some(i) = t.find("#[cfg(test)]") {
-        let rest = t[i + "#[cfg(test)]".len()..].trim_start();
-        if rest.starts_with("mod ") && rest.contains('{') {
-            let after_name =
-                rest[4..].trim_start_matches(|c: char| c.is_alphanumeric() || c == '_');
-            if after_name.trim_start().starts_with('{') {
-                t.truncate(i);
-            }
-        }
-    }
-    while let Some(a) = t.find("/*") {
-        match t[a..].find("*/") {
-            Some(b) => t.replace_range(a..a + b + 2, ""),
-            None => t.truncate(a),
-        }
-    }
-    t.lines()
-        .map(|l| l.split("//").next().unwrap_or(""))
-        .collect::<Vec<_>>()
-        .join("\n")
-}
-
-fn ident(s: &str) -> &str {
-    let end = s
-        .find(|c: char| !(c.is_alphanumeric() || c == '_'))
-        .unwrap_or(s.len());
-    &s[..end]
-}
-
 /// The top-level modules a file's text names through `crate::`.
 fn names(text: &str) -> BTreeSet<String> {
     let mut out = BTreeSet::new();
@@ -108,17 +79,6 @@ fn names(text: &str) -> BTreeSet<String> {
         }
     }
     out
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
 }
 
 /// Top-level module → the modules it imports → the files that do.
@@ -243,6 +203,11 @@ fn the_reader_sees_groups_and_skips_comments_and_tests() {
                 #[cfg(test)]\nmod tests {\n    use crate::j;\n}\n";
     let got: Vec<String> = names(&strip(text)).into_iter().collect();
     assert_eq!(got, ["a", "b", "c", "f"]);
+    // Comment markers inside strings and character literals are text; block comments nest.
+    let text = "let p = \"meshes/*.ply\"; let c = '/'; let r = r#\"//\"#;\n\
+                /* a /* nested */ crate::k */ use crate::l; fn f<'a>(x: &'a u8) {}";
+    let got: Vec<String> = names(&strip(text)).into_iter().collect();
+    assert_eq!(got, ["l"]);
 }
 
 /// What `config` may name from below: settings enums and structs the schema deserialises into,
@@ -340,7 +305,11 @@ fn config_names_settings_and_builds_nothing() {
             }
         }
     }
-    assert!(problems.is_empty(), "config builds engine values:\n{}", problems.join("\n"));
+    assert!(
+        problems.is_empty(),
+        "config builds engine values:\n{}",
+        problems.join("\n")
+    );
 }
 
 /// The path reader: groups, nesting and a path that ends in a call.
