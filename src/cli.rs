@@ -82,6 +82,11 @@ pub struct RenderArgs {
     /// `--features embree`.
     #[arg(long, value_enum)]
     pub accel: Option<crate::accel::AccelKind>,
+    /// Paths per packet: 1, 4, 8, 16, `auto` (the widest this CPU runs) or `off` (the scalar
+    /// integrator). Every width gives the same bits; scenes the packet kernel does not take
+    /// (adaptive sampling, caustics, dispersion) use the scalar integrator whatever this says.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub simd: crate::integrator::packet::Simd,
     /// Sampler (overrides the scene's sampler.kind).
     #[arg(long, value_enum)]
     pub sampler: Option<crate::sampler::SamplerKind>,
@@ -178,6 +183,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         return Err(crate::error::InputError::new(&args.scene, "--spp must be at least 1").into());
     }
     let pool = worker_pool(args.workers.threads, &args.scene)?;
+    if let Err(why) = args.simd.check() {
+        return Err(crate::error::InputError::new(&args.scene, why).into());
+    }
     if !args.exposure.is_finite() {
         return Err(crate::error::InputError::new(
             &args.scene,
@@ -245,6 +253,8 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
             None => {}
         }
     })?;
+    let mut job = job;
+    job.settings.simd = args.simd;
     let load_s = t_load.elapsed().as_secs_f64();
     for w in &job.warnings {
         note(format_args!("warning: {w}"));

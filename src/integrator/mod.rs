@@ -5,6 +5,7 @@ pub mod adaptive;
 pub mod albedo;
 pub mod aov;
 pub mod caustics;
+pub mod packet;
 pub mod path;
 
 use crate::film::Film;
@@ -13,7 +14,7 @@ use crate::sampler::{PixelSampler, SamplerKind};
 use crate::scene::Scene;
 use crate::sensor::FilmChannels;
 use crate::sensor::Sensor;
-use crate::spectrum::{Spectrum, WavelengthSampler};
+use crate::spectrum::{Spectrum, WavelengthSampler, Wavelengths};
 pub use caustics::CausticSettings;
 use caustics::Caustics;
 use glam::Vec2;
@@ -40,6 +41,8 @@ pub struct RenderSettings {
     pub filter: Filter,
     pub path: PathSettings,
     pub dispersion: Dispersion,
+    /// Packet width (`--simd`); scenes `packet::unsupported` names use the scalar loop.
+    pub simd: packet::Simd,
 }
 
 /// What a render measured about itself.
@@ -124,21 +127,25 @@ fn render_lanes<const N: usize, const SE: bool>(
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
     let caustics = settings.path.caustics.and_then(|c| Caustics::new(scene, c));
+    let packets = packet::width(scene, settings);
     let results: Vec<TileOut> = tiles
         .par_iter()
         .map(|&(x0, y0)| {
             // A call before the tile's work too: a caller stopping the render (the Python
             // module's Ctrl-C unwinds from it) skips the tiles not yet begun.
             progress(0);
-            let r = render_tile::<N, SE>(
-                scene,
-                settings,
-                sensor,
-                dispersive,
-                caustics.as_ref(),
-                x0,
-                y0,
-            );
+            let r = match packets {
+                Some(w) => packet::render_tile::<N, SE>(w, scene, settings, sensor, x0, y0),
+                None => render_tile::<N, SE>(
+                    scene,
+                    settings,
+                    sensor,
+                    dispersive,
+                    caustics.as_ref(),
+                    x0,
+                    y0,
+                ),
+            };
             progress(r.counts.samples);
             r
         })
@@ -250,7 +257,7 @@ impl<const N: usize> Pass<'_, N> {
             let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
             let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
             let ray = self.scene.camera.ray(film, sampler);
-            let mut l = (self.radiance)(
+            let l = (self.radiance)(
                 self.scene,
                 ray,
                 &wl,
@@ -259,24 +266,59 @@ impl<const N: usize> Pass<'_, N> {
                 settings.dispersion,
                 self.caustics,
             );
-            if !l.is_finite() {
-                counts.invalid += 1;
-                continue;
-            }
-            if l.max_value() > self.clamp {
-                counts.clamped += 1;
-                l = Spectrum::from_fn(|j| l[j].min(self.clamp));
-            }
-            self.sensor
-                .add(&mut sums.acc, &l, &wl.estimator_weights(), &wl);
-            if SQ {
-                sums.one.iter_mut().for_each(|a| *a = 0.0);
-                self.sensor
-                    .add(&mut sums.one, &l, &wl.estimator_weights(), &wl);
-                let sq = sums.acc2.iter_mut().zip(&sums.one);
-                sq.for_each(|(q, v)| *q += v * v);
-            }
+            add_sample::<N, SQ>(self.sensor, self.clamp, l, &wl, sums, counts);
         }
+    }
+}
+
+/// Adds one camera sample's radiance `l` at `wl` to a pixel's `sums` (with `SQ`, its squares
+/// too: a second add into a scratch, so `acc` sums exactly as without them). The scalar loop
+/// and the packet kernel's in-order flush both come here, so they sum alike.
+#[inline(always)]
+fn add_sample<const N: usize, const SQ: bool>(
+    sensor: &Sensor,
+    clamp: f32,
+    mut l: Spectrum<N>,
+    wl: &Wavelengths<N>,
+    sums: &mut Sums,
+    counts: &mut TileCounts,
+) {
+    if !l.is_finite() {
+        counts.invalid += 1;
+        return;
+    }
+    if l.max_value() > clamp {
+        counts.clamped += 1;
+        l = Spectrum::from_fn(|j| l[j].min(clamp));
+    }
+    sensor.add(&mut sums.acc, &l, &wl.estimator_weights(), wl);
+    if SQ {
+        sums.one.iter_mut().for_each(|a| *a = 0.0);
+        sensor.add(&mut sums.one, &l, &wl.estimator_weights(), wl);
+        let sq = sums.acc2.iter_mut().zip(&sums.one);
+        sq.for_each(|(q, v)| *q += v * v);
+    }
+}
+
+/// Appends a finished pixel of `n` samples (its `sums`) to `out`.
+#[inline(always)]
+fn finish_pixel<const SE: bool>(sums: &Sums, n: u32, out: &mut TileOut) {
+    let inv_n = 1.0 / n as f64;
+    out.means
+        .extend(sums.acc.iter().map(|&a| (a * inv_n) as f32));
+    out.spp.push(n);
+    if SE {
+        // Unbiased sample variance over n samples (invalid ones count as 0), / n.
+        let n = n as f64;
+        out.se
+            .extend(sums.acc.iter().zip(&sums.acc2).map(|(&s, &q)| {
+                let var = if n > 1.0 {
+                    ((q - s * s / n) / (n - 1.0)).max(0.0)
+                } else {
+                    0.0
+                };
+                (var / n).sqrt() as f32
+            }));
     }
 }
 
@@ -340,23 +382,7 @@ fn render_tile<const N: usize, const SE: bool>(
             sums.clear();
             let mut sampler = PixelSampler::new(settings.sampler, settings.seed, pixel);
             pass.take::<SE>(x, y, &mut sampler, n, &mut sums, &mut out.counts);
-            let inv_n = 1.0 / n as f64;
-            out.means
-                .extend(sums.acc.iter().map(|&a| (a * inv_n) as f32));
-            out.spp.push(n);
-            if SE {
-                // Unbiased sample variance over n samples (invalid ones count as 0), / n.
-                let n = n as f64;
-                out.se
-                    .extend(sums.acc.iter().zip(&sums.acc2).map(|(&s, &q)| {
-                        let var = if n > 1.0 {
-                            ((q - s * s / n) / (n - 1.0)).max(0.0)
-                        } else {
-                            0.0
-                        };
-                        (var / n).sqrt() as f32
-                    }));
-            }
+            finish_pixel::<SE>(&sums, n, &mut out);
         }
     }
     out

@@ -100,27 +100,7 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool, const CAUSTICS: bool>(
     } else {
         settings.max_depth as u32
     };
-    let n_emitters = scene.emitters.len();
-    let mut path = Path {
-        l: Spectrum::zero(),
-        beta: Spectrum::one(),
-        r: Spectrum::one(),
-        lane_w: 1.0,
-        eta: 1.0,
-        prev_p: ray.o,
-        prev_pdf: 0.0,
-        prev_delta: true, // the camera ray: no competing strategy
-        select_pdf: if n_emitters > 0 {
-            1.0 / n_emitters as f32
-        } else {
-            0.0
-        },
-        dispersion,
-        le_memo: LeMemo {
-            emitter: LeMemo::<N>::NONE,
-            le: Spectrum::zero(),
-        },
-    };
+    let mut path = Path::start(ray.o, scene.emitters.len(), dispersion);
     let mut depth = 1u32;
     let mut bsdf = Bsdf::default();
     // Caustic light tracing's share: the first vertex (not glossy) scattered through a smooth
@@ -224,24 +204,24 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool, const CAUSTICS: bool>(
 /// lane's contribution is scaled by `lane_w` = N / Σ r, and emitter-vs-BSDF MIS uses the lanes'
 /// average BSDF density weighted by r. Without dispersion r stays 1 and all of this is the
 /// identity.
-struct Path<const N: usize> {
+pub(super) struct Path<const N: usize> {
     /// Radiance gathered so far.
-    l: Spectrum<N>,
+    pub(super) l: Spectrum<N>,
     /// Throughput.
-    beta: Spectrum<N>,
+    pub(super) beta: Spectrum<N>,
     r: Spectrum<N>,
-    lane_w: f32,
+    pub(super) lane_w: f32,
     /// Product of the relative indices of refraction crossed (for Russian roulette).
-    eta: f32,
+    pub(super) eta: f32,
     // The previous vertex and its BSDF sampling density, for MIS when the ray lands on an
     // emitter.
-    prev_p: Vec3,
-    prev_pdf: f32,
-    prev_delta: bool,
+    pub(super) prev_p: Vec3,
+    pub(super) prev_pdf: f32,
+    pub(super) prev_delta: bool,
     /// Probability of choosing each emitter for emitter sampling (uniform).
-    select_pdf: f32,
+    pub(super) select_pdf: f32,
     dispersion: Dispersion,
-    le_memo: LeMemo<N>,
+    pub(super) le_memo: LeMemo<N>,
 }
 
 /// Where an emitter sample's radiance comes from (see `Path::scatter`).
@@ -258,7 +238,7 @@ enum Le<'a, const N: usize> {
 /// bounce (the RGB uplift times D65 there was 6% of the render). A textured light is never
 /// memoised (its radiance depends on the point): it is looked up at each point's uv, on the
 /// memo's miss branch, so the uniform case's hit path is what it was.
-struct LeMemo<const N: usize> {
+pub(super) struct LeMemo<const N: usize> {
     emitter: u32,
     le: Spectrum<N>,
 }
@@ -268,7 +248,13 @@ impl<const N: usize> LeMemo<N> {
 
     /// The radiance of area emitter `a` (emitter index `e`) at the point of uv `uv` on it.
     #[inline(always)]
-    fn get(&mut self, e: u32, a: &AreaEmitter, uv: Vec2, wl: &Wavelengths<N>) -> Spectrum<N> {
+    pub(super) fn get(
+        &mut self,
+        e: u32,
+        a: &AreaEmitter,
+        uv: Vec2,
+        wl: &Wavelengths<N>,
+    ) -> Spectrum<N> {
         if self.emitter != e {
             match &a.radiance {
                 AreaRadiance::Uniform(c) => {
@@ -283,12 +269,37 @@ impl<const N: usize> LeMemo<N> {
 }
 
 impl<const N: usize> Path<N> {
+    /// A path whose camera ray leaves `o`, in a scene of `n_emitters` emitters.
+    #[inline(always)]
+    pub(super) fn start(o: Vec3, n_emitters: usize, dispersion: Dispersion) -> Self {
+        Path {
+            l: Spectrum::zero(),
+            beta: Spectrum::one(),
+            r: Spectrum::one(),
+            lane_w: 1.0,
+            eta: 1.0,
+            prev_p: o,
+            prev_pdf: 0.0,
+            prev_delta: true, // the camera ray: no competing strategy
+            select_pdf: if n_emitters > 0 {
+                1.0 / n_emitters as f32
+            } else {
+                0.0
+            },
+            dispersion,
+            le_memo: LeMemo {
+                emitter: LeMemo::<N>::NONE,
+                le: Spectrum::zero(),
+            },
+        }
+    }
+
     /// Emitter sampling and BSDF sampling at `si` with `bsdf`, for a path arriving from world
     /// direction `wi_world`: adds the light sampled there and returns the path's next ray
     /// (None if the path ends here). Emitter samples that `skip` takes are left out.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn scatter<const DISPERSIVE: bool>(
+    pub(super) fn scatter<const DISPERSIVE: bool>(
         &mut self,
         bsdf: &impl BsdfLike<N>,
         si: &SurfaceInteraction,

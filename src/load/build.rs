@@ -371,6 +371,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         filter: Filter::new(&f.filter),
         path: cfg.integrator,
         dispersion: cfg.spectral.dispersion,
+        simd: Default::default(),
     };
     if let Some(a) = settings.adaptive {
         check(

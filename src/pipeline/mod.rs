@@ -223,6 +223,10 @@ pub fn header(
         ("prism:sampler".into(), format!("{:?}", s.sampler)),
         ("prism:accel".into(), format!("{:?}", job.config.accel)),
         (
+            "prism:simd".into(),
+            crate::integrator::packet::describe(&job.scene, s),
+        ),
+        (
             "prism:wavelengths".into(),
             format!(
                 "{} per path, {:?} over {lo}-{hi} nm",

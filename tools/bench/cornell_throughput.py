@@ -2,7 +2,8 @@
 
     tools/.venv/bin/python tools/bench/cornell_throughput.py [--spp 256] [--repeats 3]
 
-prism renders scenes/cornell.ron (Mitsuba's cornell_box() with a box filter) through its CLI;
+prism renders scenes/cornell.ron (Mitsuba's cornell_box() with a box filter) through its CLI,
+with the packet kernel (`--simd auto`) and the scalar integrator (`--simd off`);
 Mitsuba 3.9.1 renders the same dict (`mi.cornell_box()` with the box filter) in the
 `scalar_spectral` and `llvm_ad_spectral` variants. Each renderer gets one warm-up render (Mitsuba's
 LLVM variant compiles its kernels then), then `--repeats` timed renders; the best time counts.
@@ -29,11 +30,11 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from common import ROOT, llvm_error, mitsuba_env  # noqa: E402
 
 
-def prism_throughput(binary: pathlib.Path, spp: int, repeats: int, threads: int | None) -> dict:
+def prism_throughput(binary: pathlib.Path, spp: int, repeats: int, threads: int | None, simd: str = "auto") -> dict:
     times = []
     with tempfile.TemporaryDirectory() as tmp:
         for i in range(repeats + 1):
-            cmd = [str(binary), "render", str(ROOT / "scenes/cornell.ron"), "-o", f"{tmp}/c.exr", "-q", "--spp", str(spp)]
+            cmd = [str(binary), "render", str(ROOT / "scenes/cornell.ron"), "-o", f"{tmp}/c.exr", "-q", "--spp", str(spp), "--simd", simd]
             if threads:
                 cmd += ["--threads", str(threads)]
             err = subprocess.run(cmd, check=True, capture_output=True, text=True).stderr
@@ -84,13 +85,15 @@ def main() -> None:
         "machine": {"cpus": os.cpu_count(), "load_average_before": os.getloadavg()},
         "spp": args.spp,
         "prism": prism_throughput(args.prism, args.spp, args.repeats, None),
+        "prism_scalar": prism_throughput(args.prism, args.spp, args.repeats, None, "off"),
         "prism_1_thread": prism_throughput(args.prism, args.spp // 4, args.repeats, 1),
+        "prism_scalar_1_thread": prism_throughput(args.prism, args.spp // 4, args.repeats, 1, "off"),
         "mitsuba_scalar_spectral": mitsuba_throughput("scalar_spectral", args.spp, args.repeats),
         "mitsuba_llvm_ad_spectral": mitsuba_throughput("llvm_ad_spectral", args.spp, args.repeats),
     }
     p = results["prism"]["msamples_per_s"]
     print(f"Cornell box 256x256, {args.spp} spp, {os.cpu_count()} cores (best of {args.repeats}):")
-    for key in ("prism", "prism_1_thread", "mitsuba_scalar_spectral", "mitsuba_llvm_ad_spectral"):
+    for key in ("prism", "prism_scalar", "prism_1_thread", "prism_scalar_1_thread", "mitsuba_scalar_spectral", "mitsuba_llvm_ad_spectral"):
         r = results[key]
         if "error" in r:
             print(f"  {key:26s} unavailable: {r['error'][:120]}")
