@@ -172,3 +172,71 @@ fn exposure_is_recorded_and_scales_the_standard_errors() {
         );
     }
 }
+
+/// `outputs.sensors` gives every frame a further sensor on the same paths: its `nikon.*`
+/// channels equal bit for bit the frame rendered with the nikon file as its only sensor (the
+/// variation `files: [NIKON]`: the same scene draws and render seed), the main channels equal
+/// the plain run's, the JSON lists both sensors, and `dataset.json` hashes the sensor file.
+#[test]
+fn outputs_sensors_add_a_sensor_on_the_same_paths() {
+    let plain = full_run();
+    let dir = workdir("two-sensors");
+    let nikon = root().join("configs/sensors/nikon_d810.ron");
+    let cfg = config(&dir, |t| {
+        t.replace(
+            "outputs: (preview: true,",
+            &format!(
+                "outputs: (sensors: [(name: \"nikon\", sensor: File({nikon:?}))], preview: true,"
+            ),
+        )
+    });
+    let two = dir.join("two");
+    ok(&dataset(&cfg, &two, &["--frames", "0..2"]));
+    let alone_dir = dir.join("alone-cfg");
+    std::fs::create_dir_all(&alone_dir).unwrap();
+    let alone_cfg = sensor_config(&alone_dir, 1, "(files: [NIKON])");
+    let alone = dir.join("alone");
+    ok(&dataset(&alone_cfg, &alone, &["--frames", "0..2"]));
+    for i in 0..2 {
+        let stem = format!("frames/{i:06}");
+        let both = exr_pixels(&two.join(&stem).with_extension("exr"));
+        let main = exr_pixels(&plain.join(&stem).with_extension("exr"));
+        let cam = exr_pixels(&alone.join(&stem).with_extension("exr"));
+        for (k, v) in &main {
+            assert!(both[k] == *v, "frame {i}: main channel {k} differs");
+        }
+        let mut matched = 0;
+        for (k, v) in &cam {
+            if let Some(got) = both.get(&format!("nikon.{k}")) {
+                assert!(
+                    got == v,
+                    "frame {i}: nikon.{k} differs from the nikon alone"
+                );
+                matched += 1;
+            }
+        }
+        assert!(
+            matched >= 12 && both.contains_key("nikon.camera.R"),
+            "frame {i}: {:?}",
+            both.keys()
+        );
+        assert_eq!(
+            both.len(),
+            main.len() + matched,
+            "frame {i}: {:?}",
+            both.keys()
+        );
+        let json = json_file(&two.join(&stem).with_extension("json"));
+        assert_eq!(json["sensors"][1]["name"], "nikon", "frame {i}");
+    }
+    let ds = json_file(&two.join("dataset.json"));
+    assert!(
+        ds["inputs"]
+            .as_object()
+            .unwrap()
+            .keys()
+            .any(|k| k.ends_with("nikon_d810.ron")),
+        "{}",
+        ds["inputs"]
+    );
+}

@@ -99,6 +99,12 @@ pub struct FrameOutputs {
     /// "instance", "label"]`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub aovs: Option<Vec<String>>,
+    /// Further sensors of every frame, on the same paths as its main sensor (overrides the base
+    /// scene's `sensors`; files relative to the dataset config): `sensors: [(name: "nikon",
+    /// sensor: File("../sensors/nikon_d810.ron"))]` writes `nikon.camera.R` … beside the
+    /// main sensor's channels (src/sensor/multi.rs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensors: Option<Vec<crate::config::sensor::NamedSensor>>,
 }
 
 /// A closed range `(lo, hi)` sampled uniformly; `lo == hi` is a constant.

@@ -195,6 +195,19 @@ pub fn value(
         })
     });
     let (files, scene_hash) = hashes(job, scene_file);
+    // Every sensor of the render (the main one first, unnamed) and the EXR channels it wrote.
+    fn sensors(s: &crate::sensor::Sensor) -> Value {
+        let main = json!({"name": Value::Null, "prefix": "", "channels": s.own_channel_names()});
+        let extras = s.extras().iter().map(|e| {
+            json!({
+                "name": e.name,
+                "prefix": format!("{}.", e.name),
+                "channels": e.sensor.own_channel_names().iter().map(|c| format!("{}.{c}", e.name)).collect::<Vec<_>>(),
+                "attributes": e.sensor.layers.header.iter().map(|(k, v)| (k.clone(), Value::from(v.clone()))).collect::<serde_json::Map<_, _>>(),
+            })
+        });
+        Value::Array(std::iter::once(main).chain(extras).collect())
+    }
     let aov_list: Vec<Value> = job
         .aovs
         .iter()
@@ -228,6 +241,7 @@ pub fn value(
             "bands": bands,
             "exposure": Value::Null,
         },
+        "sensors": sensors(&c.sensor),
         "render": {
             "prism_version": env!("CARGO_PKG_VERSION"),
             "scene_file": scene_file,
