@@ -89,6 +89,16 @@ fn hashes(job: &Job, scene_file: &Path) -> (Value, String) {
     if let Ok(v) = serde_json::to_value(&job.config) {
         walk(&v, base, &mut files);
     }
+    // And every file the load read that the config does not name itself: a glTF's buffers and
+    // images, the curve files a sensor file names, spectrum files.
+    let normal = crate::io::paths::normal;
+    let mut known: std::collections::BTreeSet<PathBuf> = files.iter().map(|p| normal(p)).collect();
+    known.insert(normal(scene_file));
+    for p in &job.inputs {
+        if p.is_file() && known.insert(normal(p)) {
+            files.insert(p.clone());
+        }
+    }
     let sha = |p: &Path| -> String {
         std::fs::read(p)
             .map(|b| format!("{:x}", Sha256::digest(&b)))
@@ -240,6 +250,12 @@ pub fn value(
             "units": "spectral radiance, W m^-2 sr^-1 nm^-1 (bands: mean over the band); XYZ and RGB: the CMF-weighted integral with Y of a unit constant spectrum = 1",
             "bands": bands,
             "exposure": Value::Null,
+            "camera": layers.camera.as_ref().map(|m| json!({
+                "name": m.name,
+                "scale": m.exposure,
+                "white_balance": m.white_balance.to_array(),
+                "units": crate::sensor::camera::UNITS,
+            })),
         },
         "sensors": sensors(&c.sensor),
         "render": {
