@@ -219,3 +219,55 @@ fn an_exported_frame_renders_the_same_with_prism_render() {
     }
     assert!(std::fs::read(&png).unwrap() == std::fs::read(full.join("frames/000006.png")).unwrap());
 }
+
+/// A resume trusts a listed file whose size and modification time are the ones its manifest
+/// line records (it reads none of them), and `--verify` reads every one: a frame's EXR changed
+/// in one byte with its size and mtime kept passes the resume untouched and is caught by
+/// `--verify`, which renders it again; a file whose mtime alone changed is read and kept.
+#[test]
+fn verify_reads_every_frame_and_a_resume_trusts_sizes_and_mtimes() {
+    let full = frames(&full_run());
+    let dir = workdir("verify");
+    let cfg = config(&dir, |t| t);
+    let out = dir.join("out");
+    ok(&dataset(&cfg, &out, &["--frames", "0..3"]));
+    let text = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
+    let line: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+    assert!(line["files"][0]["mtime_ns"].is_u64(), "{line}");
+    let set_mtime = |p: &Path, t: std::time::SystemTime| {
+        let f = std::fs::File::options().write(true).open(p).unwrap();
+        f.set_modified(t).unwrap();
+    };
+    let exr = out.join("frames/000001.exr");
+    let mtime = std::fs::metadata(&exr).unwrap().modified().unwrap();
+    let mut bytes = std::fs::read(&exr).unwrap();
+    let at = bytes.len() - 10;
+    bytes[at] ^= 1;
+    std::fs::write(&exr, &bytes).unwrap();
+    set_mtime(&exr, mtime);
+    let tally = |o: &std::process::Output| String::from_utf8_lossy(&o.stderr).into_owned();
+    let o = dataset(&cfg, &out, &["--frames", "0..3"]);
+    ok(&o);
+    assert!(tally(&o).contains("0 rendered, 3 skipped"), "{}", tally(&o));
+    assert!(
+        std::fs::read(&exr).unwrap() == bytes,
+        "the resume rewrote it"
+    );
+    let o = dataset(&cfg, &out, &["--frames", "0..3", "--verify"]);
+    ok(&o);
+    let err = tally(&o);
+    assert!(
+        err.contains("3 listed frame(s) read in full, 1 damaged") && err.contains("[1]"),
+        "{err}"
+    );
+    assert!(err.contains("1 rendered, 2 skipped"), "{err}");
+    for (name, b) in frames(&out) {
+        assert!(full[&name] == b, "{name} differs from the full run");
+    }
+    // Same bytes, another mtime: read in full, found intact, not rendered again.
+    let two = out.join("frames/000002.exr");
+    set_mtime(&two, std::time::SystemTime::UNIX_EPOCH);
+    let o = dataset(&cfg, &out, &["--frames", "0..3"]);
+    ok(&o);
+    assert!(tally(&o).contains("0 rendered, 3 skipped"), "{}", tally(&o));
+}
