@@ -171,7 +171,10 @@ pub struct Pose {
 /// `(target: "lamp", intensity: (5, 20), temperature: (2700, 6500))`. `target` is a shape's
 /// `name` (its area light) or `"emitters[i]"` (the scene's i-th emitter). `intensity` scales
 /// the light's spectrum; with `temperature` (K) the spectrum becomes a blackbody of unit
-/// luminance (like `Named("D65")`) times `intensity`.
+/// luminance (like `Named("D65")`) times `intensity`; with `illuminants: ["D65", "F2",
+/// "LED-B1"]` (CIE names, as `Named` takes) it becomes one of them, drawn uniformly per frame,
+/// times `intensity` (each is of unit luminance). `temperature` and `illuminants` exclude each
+/// other.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LightVariation {
@@ -180,6 +183,8 @@ pub struct LightVariation {
     pub intensity: Option<Range>,
     #[serde(default)]
     pub temperature: Option<Range>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub illuminants: Vec<String>,
 }
 
 /// `envmap: (target: "emitters[0]", files: ["sky1.exr", "sky2.exr"], rotate: true)`: the
