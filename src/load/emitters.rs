@@ -214,9 +214,17 @@ pub fn emitter(
                 .filter(|&(a, b)| a > range.0 || b < range.1)
             {
                 let (k, end) = (crate::emitter::TAIL_KELVIN, crate::emitter::TAIL_END);
+                let mut parts = Vec::new();
+                if b < range.1 {
+                    parts.push(format!("past {b} nm it continues as a {k} K blackbody scaled to D65 at {b} nm (a chosen tail, not data; 0 past {end} nm)"));
+                }
+                if a > range.0 {
+                    parts.push(format!("below {a} nm it is 0"));
+                }
                 warnings.push(format!(
-                    "{}: {field}.filename: an environment map's radiance is its RGB × D65, whose data cover {a}–{b} nm only: past {b} nm it continues as a {k} K blackbody scaled to D65 at {b} nm (a chosen tail, not data; 0 past {end} nm), and it is 0 below {a} nm; render range {}–{} nm",
+                    "{}: {field}.filename: an environment map's radiance is its RGB × D65, whose data cover {a}–{b} nm only: {} in the render range {}–{} nm",
                     file.display(),
+                    parts.join("; "),
                     range.0,
                     range.1
                 ));
