@@ -236,3 +236,34 @@ fn check_reports_what_prism_render_warns_about_once() {
     unique.dedup();
     assert_eq!(unique.len(), lines.len(), "a warning repeated: {err}");
 }
+
+/// Every example in configs/datasets passes `--check` (each frame planned, every input read,
+/// the output folder claimed) with its paths as written, run from its own folder.
+#[test]
+fn every_example_config_checks() {
+    let ds = root().join("configs/datasets");
+    let mut n = 0;
+    for e in std::fs::read_dir(&ds).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "ron") {
+            let out = workdir(&format!("example-{n}"));
+            let o = prism()
+                .current_dir(&ds)
+                .arg("dataset")
+                .arg(p.file_name().unwrap())
+                .arg("-o")
+                .arg(out.join("out"))
+                .args(["--check", "--quiet"])
+                .output()
+                .unwrap();
+            assert!(
+                o.status.success(),
+                "{}: {}",
+                p.display(),
+                String::from_utf8_lossy(&o.stderr)
+            );
+            n += 1;
+        }
+    }
+    assert!(n >= 3, "{n} example configs");
+}
