@@ -271,3 +271,41 @@ fn verify_reads_every_frame_and_a_resume_trusts_sizes_and_mtimes() {
     ok(&o);
     assert!(tally(&o).contains("0 rendered, 3 skipped"), "{}", tally(&o));
 }
+
+/// A run that dies between frame 2's renames and its manifest line (the test hook aborts the
+/// process there, as `kill -9` at that moment would): frames 0 and 1 are listed, frame 2's
+/// files are in place but unlisted; the resume renders frame 2 again (and lists it once) and
+/// ends byte-identical to the uninterrupted run.
+#[test]
+fn a_kill_between_rename_and_listing_is_redone_on_resume() {
+    let full = frames(&full_run());
+    let dir = workdir("rename-kill");
+    let cfg = config(&dir, |t| t);
+    let out = dir.join("out");
+    let o = prism()
+        .arg("dataset")
+        .arg(&cfg)
+        .arg("-o")
+        .arg(&out)
+        .args(["--quiet", "--threads", "1"])
+        .env("PRISM_TEST_ABORT_BEFORE_LISTING", "2")
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("SLURM_ARRAY_TASK_COUNT")
+        .env_remove("JOB_COMPLETION_INDEX")
+        .output()
+        .unwrap();
+    assert!(!o.status.success(), "the hook did not stop the run");
+    assert_eq!(manifest(&out), vec![0, 1]);
+    assert!(
+        out.join("frames/000002.exr").is_file(),
+        "frame 2 was not renamed into place"
+    );
+    let o = dataset(&cfg, &out, &[]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("6 rendered, 2 skipped"), "{err}");
+    let mut m = manifest(&out);
+    m.sort_unstable();
+    assert_eq!(m, (0..8).collect::<Vec<_>>());
+    assert!(frames(&out) == full, "the resumed dataset differs");
+}

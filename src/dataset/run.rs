@@ -240,6 +240,13 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
             })
             .and_then(|r| {
                 let e = out.entry(i, &r.files, r.seconds, r.invalid_samples)?;
+                // For the crash tests: die as `kill -9` would between a frame's renames and
+                // its manifest line (tests/dataset_runs.rs).
+                if std::env::var("PRISM_TEST_ABORT_BEFORE_LISTING")
+                    .is_ok_and(|v| v == i.to_string())
+                {
+                    std::process::abort();
+                }
                 out.append(&e)?;
                 Ok(r)
             });
