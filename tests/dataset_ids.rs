@@ -7,11 +7,11 @@ use dataset_util::*;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// Every frame of `out` (8 frames, config `cfg`) against `prism render` of its exported scene:
+/// Frames 0..n of `out` (config `cfg`) against `prism render` of its exported scene:
 /// the EXR's pixels bit for bit (ids included) and the JSON's `labels`, `materials` and
 /// `objects` (names, ids, labels, materials, transforms) equal; and every id a frame uses is the
 /// one `dataset.json`'s tables give its class and instance.
-fn check_against_exports(dir: &Path, cfg: &Path, out: &Path) {
+fn check_against_exports(dir: &Path, cfg: &Path, out: &Path, n: u32) {
     let ds = json_file(&out.join("dataset.json"));
     let classes: BTreeMap<String, u64> = ds["classes"]
         .as_array()
@@ -38,7 +38,7 @@ fn check_against_exports(dir: &Path, cfg: &Path, out: &Path) {
         })
         .collect();
     let exp = dir.join("exported");
-    for i in 0..8u32 {
+    for i in 0..n {
         let stem = out.join(format!("frames/{i:06}"));
         let frame = json_file(&stem.with_extension("json"));
         ok(&dataset(cfg, &exp, &["--export-frame", &i.to_string()]));
@@ -106,12 +106,23 @@ fn check_against_exports(dir: &Path, cfg: &Path, out: &Path) {
     }
 }
 
+/// smoke.ron with a second sensor on the same paths (`nikon.*` channels in every frame).
+fn two_sensors(t: String) -> String {
+    let nikon = root().join("configs/sensors/nikon_d810.ron");
+    t.replace(
+        "outputs: (preview: true,",
+        &format!("outputs: (sensors: [(name: \"nikon\", sensor: File({nikon:?}))], preview: true,"),
+    )
+}
+
+/// Subsets, placement, swaps, two sensors and the id layers: every frame's EXR (sensor and
+/// id channels) equals `prism render` of its export bit for bit, and its JSON's tables.
 #[test]
 fn ids_are_fixed_per_dataset_and_every_frame_matches_a_fresh_render_of_its_export() {
     let dir = workdir("ids");
     std::fs::write(dir.join("base.ron"), labelled_tabletop()).unwrap();
     // Subsets hide some of box, marble and bead in most frames; placement moves the rest.
-    let cfg = config_on_base(&dir, |t| t);
+    let cfg = config_on_base(&dir, two_sensors);
     let out = dir.join("out");
     ok(&dataset(&cfg, &out, &[]));
     let hidden = (0..8)
@@ -121,7 +132,7 @@ fn ids_are_fixed_per_dataset_and_every_frame_matches_a_fresh_render_of_its_expor
         })
         .count();
     assert!(hidden >= 4, "only {hidden} frames hide a shape");
-    check_against_exports(&dir, &cfg, &out);
+    check_against_exports(&dir, &cfg, &out, 8);
 }
 
 #[test]
@@ -156,7 +167,7 @@ fn frames_that_reuse_geometry_name_their_own_materials() {
         swapped.insert(m);
     }
     assert!(swapped.len() >= 2, "the box kept {swapped:?}");
-    check_against_exports(&dir, &cfg, &out);
+    check_against_exports(&dir, &cfg, &out, 8);
 }
 
 /// Frames that change only camera, lights and materials reuse the first frame's geometry (a
@@ -299,4 +310,21 @@ fn outputs_aovs_and_splits_are_the_datasets() {
         refused(&o, &[needle]);
         assert!(frames(&bad.join("out")).is_empty(), "case {k} rendered");
     }
+}
+
+/// The long form (a benchmark: `cargo test --release --test dataset_ids -- --ignored`): 40
+/// frames with subsets, swaps, placement, two sensors and the id AOVs, every one checked
+/// against an independent `prism render` of its exported scene as above.
+#[test]
+#[ignore]
+fn forty_frames_match_their_exports() {
+    let dir = workdir("forty");
+    std::fs::write(dir.join("base.ron"), labelled_tabletop()).unwrap();
+    let cfg = config_on_base(&dir, |t| {
+        assert!(t.contains("frames: 8,"));
+        two_sensors(t).replace("frames: 8,", "frames: 40,")
+    });
+    let out = dir.join("out");
+    ok(&dataset(&cfg, &out, &[]));
+    check_against_exports(&dir, &cfg, &out, 40);
 }
