@@ -115,6 +115,10 @@ pub struct RenderArgs {
     /// A sensor file (RON, configs/sensors/*.ron) replacing the scene's `sensor`/`outputs`.
     #[arg(long)]
     pub sensor: Option<PathBuf>,
+    /// A further sensor on the same paths, `NAME=FILE` (repeatable; replaces the scene's
+    /// `sensors`): its channels are written prefixed `NAME.` beside the main sensor's.
+    #[arg(long = "also-sensor", value_name = "NAME=FILE", value_parser = parse_named_sensor)]
+    pub also_sensor: Vec<(String, PathBuf)>,
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -127,6 +131,18 @@ pub struct RenderArgs {
     pub max_memory: Option<u64>,
     #[command(flatten)]
     pub workers: WorkerArgs,
+}
+
+/// `--also-sensor NAME=FILE`.
+fn parse_named_sensor(s: &str) -> Result<(String, PathBuf), String> {
+    match s.split_once('=') {
+        Some((name, file)) if !name.is_empty() && !file.is_empty() => {
+            Ok((name.to_string(), PathBuf::from(file)))
+        }
+        _ => Err(format!(
+            "`{s}` is not NAME=FILE (e.g. --also-sensor nikon=configs/sensors/nikon_d810.ron)"
+        )),
+    }
 }
 
 /// A feature switched on or off from the command line.
@@ -237,6 +253,16 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         if let Some(p) = &args.sensor {
             cfg.sensor = Some(crate::load::sensor::cli_override(p));
             cfg.outputs = Default::default();
+        }
+        if !args.also_sensor.is_empty() {
+            cfg.sensors = args
+                .also_sensor
+                .iter()
+                .map(|(name, p)| crate::config::sensor::NamedSensor {
+                    name: name.clone(),
+                    sensor: crate::load::sensor::cli_override(p),
+                })
+                .collect();
         }
         if args.clamp.is_some() {
             cfg.integrator.clamp = args.clamp;

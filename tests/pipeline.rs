@@ -44,7 +44,7 @@ fn a_dataset_frame_has_the_header_keys_of_prism_render() {
     let dir = std::env::temp_dir().join(format!("prism-pipeline-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    // smoke.ron with its paths made absolute (as tests/dataset.rs does).
+    // smoke.ron with its paths made absolute (as tests/dataset_util does).
     let ds = root.join("configs/datasets");
     let text = std::fs::read_to_string(ds.join("smoke.ron"))
         .unwrap()

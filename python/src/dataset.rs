@@ -177,6 +177,7 @@ pub fn run_dataset(
         num_shards,
         check: false,
         force: false,
+        verify: false,
         workers: WorkerArgs {
             threads,
             quiet: !progress,

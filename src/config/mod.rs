@@ -58,6 +58,11 @@ pub struct SceneConfig {
     /// or `File("sensor.ron")` (relative to the scene file); replaces `outputs`
     /// (configs/README.md).
     pub sensor: Option<sensor::SensorField>,
+    /// Further sensors on the same paths, each writing its channels prefixed `<name>.`:
+    /// `sensors: [(name: "nikon", sensor: File("nikon.ron")), (name: "hsi", sensor: (bands:
+    /// [Even(count: 60, range: (400, 1000))]))]` (src/sensor/multi.rs).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<sensor::NamedSensor>,
     /// Materials by name; shapes refer to them. `{ "white": Diffuse(reflectance: Rgb(0.8, 0.8, 0.8)) }`
     #[serde(deserialize_with = "unique_keys::materials")]
     pub materials: BTreeMap<String, MaterialConfig>,

@@ -39,6 +39,15 @@ pub enum SensorField {
     Empty(()),
 }
 
+/// One of a scene's further sensors: `(name: "nikon", sensor: File("nikon.ron"))`; `name`
+/// prefixes its channels (`nikon.camera.R`) and header keys.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NamedSensor {
+    pub name: String,
+    pub sensor: SensorField,
+}
+
 /// `File("path.ron")`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum SensorFile {

@@ -78,6 +78,14 @@ impl Base {
             if let Some(a) = &config.outputs.aovs {
                 scene.aovs = a.clone();
             }
+            if let Some(list) = &config.outputs.sensors {
+                scene.sensors = list.clone();
+                for s in &mut scene.sensors {
+                    if let SensorField::File(SensorFile::File(p)) = &mut s.sensor {
+                        *p = super::plan::absolute(&dir.join(&*p));
+                    }
+                }
+            }
             let job = crate::load::build(scene.clone(), &scene_file)?;
             Ok((scene, job))
         });

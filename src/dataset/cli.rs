@@ -32,6 +32,11 @@ pub struct DatasetArgs {
     /// Start over in an output folder that holds another dataset (or other files).
     #[arg(long)]
     pub force: bool,
+    /// Check every listed frame's files by their SHA-256 (a resume otherwise trusts a file
+    /// whose size and modification time are as listed); damaged frames are rendered again
+    /// (with --check: only reported).
+    #[arg(long)]
+    pub verify: bool,
     #[command(flatten)]
     pub workers: crate::pipeline::WorkerArgs,
 }
@@ -54,6 +59,7 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
         quiet: args.workers.quiet,
         export_frame: args.export_frame,
         check: args.check,
+        verify: args.verify,
     };
     let s = pool.install(|| run::run(&args.config, &args.output, &opts))?;
     Ok(if s.failed > 0 { 1 } else { 0 })

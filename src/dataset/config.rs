@@ -99,6 +99,12 @@ pub struct FrameOutputs {
     /// "instance", "label"]`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub aovs: Option<Vec<String>>,
+    /// Further sensors of every frame, on the same paths as its main sensor (overrides the base
+    /// scene's `sensors`; files relative to the dataset config): `sensors: [(name: "nikon",
+    /// sensor: File("../sensors/nikon_d810.ron"))]` writes `nikon.camera.R` … beside the
+    /// main sensor's channels (src/sensor/multi.rs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensors: Option<Vec<crate::config::sensor::NamedSensor>>,
 }
 
 /// A closed range `(lo, hi)` sampled uniformly; `lo == hi` is a constant.
@@ -165,7 +171,10 @@ pub struct Pose {
 /// `(target: "lamp", intensity: (5, 20), temperature: (2700, 6500))`. `target` is a shape's
 /// `name` (its area light) or `"emitters[i]"` (the scene's i-th emitter). `intensity` scales
 /// the light's spectrum; with `temperature` (K) the spectrum becomes a blackbody of unit
-/// luminance (like `Named("D65")`) times `intensity`.
+/// luminance (like `Named("D65")`) times `intensity`; with `illuminants: ["D65", "F2",
+/// "LED-B1"]` (CIE names, as `Named` takes) it becomes one of them, drawn uniformly per frame,
+/// times `intensity` (each is of unit luminance). `temperature` and `illuminants` exclude each
+/// other.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LightVariation {
@@ -174,6 +183,8 @@ pub struct LightVariation {
     pub intensity: Option<Range>,
     #[serde(default)]
     pub temperature: Option<Range>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub illuminants: Vec<String>,
 }
 
 /// `envmap: (target: "emitters[0]", files: ["sky1.exr", "sky2.exr"], rotate: true)`: the

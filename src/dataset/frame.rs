@@ -56,8 +56,13 @@ impl GeometryCache {
             Some(job) if key == self.key => {
                 // Non-emitting meshes stand in as unit spheres: their geometry is the cached one.
                 let mut light = cfg;
+                let dir = file.parent().unwrap_or(Path::new("."));
+                let mut meshes = Vec::new();
                 for s in &mut light.shapes {
                     if s.emitter.is_none() && matches!(s.shape, ShapeKind::Mesh { .. }) {
+                        if let ShapeKind::Mesh { path } = &s.shape {
+                            meshes.push(crate::io::paths::normal(&dir.join(path)));
+                        }
                         s.shape = ShapeKind::Sphere {
                             center: [0.0; 3],
                             radius: 1.0,
@@ -77,6 +82,16 @@ impl GeometryCache {
                 job.channels = new.channels;
                 job.config = new.config;
                 job.aovs = new.aovs;
+                // The frame's inputs, as a fresh build records them: this frame's files and
+                // the cached meshes it stands in for (the sidecar hashes them).
+                let mut inputs: Vec<PathBuf> = job
+                    .inputs
+                    .iter()
+                    .filter(|p| meshes.contains(&crate::io::paths::normal(p)))
+                    .cloned()
+                    .collect();
+                inputs.extend(new.inputs);
+                job.inputs = inputs;
                 // Names, labels and materials are this frame's; where the objects are, the
                 // cached geometry's (the stand-in spheres are nowhere).
                 let mut objects = new.objects;

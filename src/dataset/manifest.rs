@@ -4,7 +4,10 @@
 //!
 //! A frame is done when its manifest line is present and every file it lists has the listed
 //! SHA-256; anything else (a kill between rename and append, a torn last line, a damaged file)
-//! is rendered again.
+//! is rendered again. A file whose size and modification time are the ones its line records
+//! is trusted without reading it, and a process reads any other file at most once (so a
+//! resume's I/O does not grow with the frames listed times the processes); `--verify` reads
+//! every listed file in full.
 
 use crate::error::{Error, InputError};
 use fs4::fs_std::FileExt;
@@ -33,17 +36,80 @@ pub struct FileSum {
     pub path: String,
     pub sha256: String,
     pub bytes: u64,
+    /// Modification time (ns since the Unix epoch) when it was listed: with `bytes`, what a
+    /// resume trusts without reading the file. Absent in older manifests (then it is read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mtime_ns: Option<u64>,
 }
 
 /// The output folder.
 pub struct Out {
     pub root: PathBuf,
+    /// Read every listed file in full (`--verify`) rather than trust sizes and mtimes.
+    pub verify: bool,
+    /// The files this process has hashed: path → (size, mtime, SHA-256), reused while the
+    /// size and mtime stay.
+    hashed: std::sync::Mutex<BTreeMap<PathBuf, Hashed>>,
+}
+
+/// A file's size, mtime and SHA-256 when this process read it.
+type Hashed = (u64, Option<u64>, String);
+
+/// A file's modification time in ns since the Unix epoch.
+fn mtime_ns(m: &std::fs::Metadata) -> Option<u64> {
+    let t = m
+        .modified()
+        .ok()?
+        .duration_since(std::time::UNIX_EPOCH)
+        .ok()?;
+    u64::try_from(t.as_nanos()).ok()
 }
 
 /// Held while the lock file is locked; dropping it closes the file, which releases the lock.
 pub struct Lock(#[allow(dead_code)] std::fs::File);
 
 impl Out {
+    pub fn new(root: PathBuf, verify: bool) -> Out {
+        Out {
+            root,
+            verify,
+            hashed: Default::default(),
+        }
+    }
+
+    /// SHA-256 and size of `p`, from this process's record while its size and mtime stay
+    /// (`fresh`: read it anyway, for a file just written).
+    fn hash(&self, p: &Path, fresh: bool) -> Result<(String, u64), String> {
+        let stat = std::fs::metadata(p).ok().map(|m| (m.len(), mtime_ns(&m)));
+        let mut seen = self.hashed.lock().unwrap_or_else(|e| e.into_inner());
+        if let (false, Some((n, t)), Some((n0, t0, sha))) = (fresh, stat, seen.get(p)) {
+            if (n, t) == (*n0, *t0) && t.is_some() {
+                return Ok((sha.clone(), n));
+            }
+        }
+        let (sha, n) = sha256(p)?;
+        if let Some((_, t)) = stat {
+            seen.insert(p.to_path_buf(), (n, t, sha.clone()));
+        }
+        Ok((sha, n))
+    }
+
+    /// Whether a listed file is there as listed: trusted on its size and mtime (a regular
+    /// file, not a link), else (and always with `verify`) by its SHA-256.
+    fn file_intact(&self, f: &FileSum) -> bool {
+        let p = self.root.join(&f.path);
+        if !self.verify && f.mtime_ns.is_some() {
+            let m = std::fs::symlink_metadata(&p);
+            if m.as_ref()
+                .is_ok_and(|m| m.is_file() && m.len() == f.bytes && mtime_ns(m) == f.mtime_ns)
+            {
+                return true;
+            }
+        }
+        self.hash(&p, false)
+            .is_ok_and(|(s, n)| s == f.sha256 && n == f.bytes)
+    }
+
     pub fn frames_dir(&self) -> PathBuf {
         self.root.join("frames")
     }
@@ -236,11 +302,7 @@ impl Out {
                 .is_some_and(|ext| !ext.is_empty() && !ext.contains(['/', '\\']))
         };
         e.files.iter().any(|f| named(f) && f.path.ends_with(".exr"))
-            && e.files.iter().all(|f| {
-                named(f)
-                    && sha256(&self.root.join(&f.path))
-                        .is_ok_and(|(s, n)| s == f.sha256 && n == f.bytes)
-            })
+            && e.files.iter().all(|f| named(f) && self.file_intact(f))
     }
 
     /// The finished frames: listed, with intact files (the first such line per frame).
@@ -324,15 +386,17 @@ impl Out {
     ) -> Result<Entry, Error> {
         let mut sums = Vec::new();
         for f in files {
-            let (sha, bytes) = sha256(f).map_err(|e| {
+            let (sha, bytes) = self.hash(f, true).map_err(|e| {
                 InputError::new(f, e)
                     .hint("the frame's file was replaced or removed while it was listed; run again")
             })?;
             let rel = f.strip_prefix(&self.root).unwrap_or(f);
+            let mtime = std::fs::metadata(f).ok().and_then(|m| mtime_ns(&m));
             sums.push(FileSum {
                 path: rel.to_string_lossy().replace('\\', "/"),
                 sha256: sha,
                 bytes,
+                mtime_ns: mtime,
             });
         }
         Ok(Entry {

@@ -152,9 +152,17 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         let mut r = Rng::new(c.seed, i, Stream::Light(k));
         let intensity = l.intensity.map(|x| r.range(x));
         let temperature = l.temperature.map(|x| r.range(x));
-        let new = |old: &SpectrumConfig| match temperature {
+        // Drawn last from the light's stream: configs without it draw as before.
+        let illuminant = (!l.illuminants.is_empty())
+            .then(|| l.illuminants[r.index(l.illuminants.len())].clone());
+        let new = |old: &SpectrumConfig| match (temperature, &illuminant) {
+            // A named illuminant is of unit luminance already.
+            (_, Some(n)) => SpectrumConfig::Scaled(
+                intensity.unwrap_or(1.0),
+                Box::new(SpectrumConfig::Named(n.clone())),
+            ),
             // A blackbody of unit luminance, like the named illuminants, times the intensity.
-            Some(t) => {
+            (Some(t), None) => {
                 let y = Curve::Blackbody {
                     kelvin: t,
                     scale: 1.0,
@@ -165,7 +173,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
                     Box::new(SpectrumConfig::Blackbody(t)),
                 )
             }
-            None => SpectrumConfig::Scaled(intensity.unwrap_or(1.0), Box::new(old.clone())),
+            (None, None) => SpectrumConfig::Scaled(intensity.unwrap_or(1.0), Box::new(old.clone())),
         };
         match base.light(&l.target, "lights")? {
             LightRef::Shape(s) => {
@@ -177,8 +185,11 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
                 EmitterSlot::Scale(s) => *s *= intensity.unwrap_or(1.0),
             },
         }
-        lights
-            .push(json!({"target": l.target, "intensity": intensity, "temperature": temperature}));
+        let mut p = json!({"target": l.target, "intensity": intensity, "temperature": temperature});
+        if let Some(n) = &illuminant {
+            p["illuminant"] = json!(n);
+        }
+        lights.push(p);
     }
     if !lights.is_empty() {
         params.insert("lights".into(), Value::Array(lights));

@@ -25,6 +25,9 @@ pub struct Options {
     pub export_frame: Option<u32>,
     /// Check and claim the folder, print what is done and what is left (JSON), render nothing.
     pub check: bool,
+    /// Read every listed frame's files in full (not trusting sizes and mtimes); damaged frames
+    /// are dropped from the manifest and rendered again.
+    pub verify: bool,
 }
 
 /// The run's tally.
@@ -112,8 +115,12 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     for &i in &frames {
         plan::plan(&base, i)?;
     }
-    let out = Out {
-        root: out.to_path_buf(),
+    let out = Out::new(out.to_path_buf(), opts.verify);
+    // With --verify, the frames listed before the full check (`prepare` drops damaged ones).
+    let listed = if opts.verify && out.root.join(super::manifest::DATASET_JSON).is_file() {
+        out.listed().unwrap_or_default()
+    } else {
+        Default::default()
     };
     out.prepare(&identity(&base)?, opts.force, file)?;
     // Temporaries of runs killed while writing (their process gone); a live run's stay.
@@ -152,6 +159,23 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     }
 
     let done = out.done()?;
+    if opts.verify {
+        let damaged: Vec<u32> = listed
+            .iter()
+            .copied()
+            .filter(|i| !done.contains_key(i))
+            .collect();
+        crate::error::note(format_args!(
+            "verify: {} listed frame(s) read in full, {} damaged{}",
+            listed.len(),
+            damaged.len(),
+            if damaged.is_empty() {
+                String::new()
+            } else {
+                format!(" (rendered again unless --check): {damaged:?}")
+            }
+        ));
+    }
     let todo: Vec<u32> = frames
         .iter()
         .copied()
@@ -216,6 +240,13 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
             })
             .and_then(|r| {
                 let e = out.entry(i, &r.files, r.seconds, r.invalid_samples)?;
+                // For the crash tests: die as `kill -9` would between a frame's renames and
+                // its manifest line (tests/dataset_runs.rs).
+                if std::env::var("PRISM_TEST_ABORT_BEFORE_LISTING")
+                    .is_ok_and(|v| v == i.to_string())
+                {
+                    std::process::abort();
+                }
                 out.append(&e)?;
                 Ok(r)
             });

@@ -9,7 +9,10 @@
 //! pole, the last the south pole). `to_world` rotates the map.
 //!
 //! Each texel's linear RGB is uplifted once, at load, as an illuminant (Mitsuba's scheme: scale =
-//! 2·max(rgb), the sigmoid of rgb/scale, and a shared D65 factor). A lookup interpolates the
+//! 2·max(rgb), the sigmoid of rgb/scale, and a shared D65 factor). RGB says nothing about the
+//! near infrared, and the D65 table ends at 830 nm: past it the factor continues as a
+//! `TAIL_KELVIN` blackbody scaled to meet D65 there, up to `TAIL_END` (a chosen extension, not
+//! data; `prism render` warns when the range goes past 830 nm), rather than dropping to 0. A lookup interpolates the
 //! sigmoid values and the scales bilinearly, each on its own, and multiplies them, as Mitsuba does.
 //!
 //! Sampling is piecewise constant in (u, v) over the cells between texel centres, each cell
@@ -32,7 +35,7 @@ pub struct EnvMap {
     /// Per texel, row-major from the top: the sigmoid and the scale of its uplifted RGB.
     sigmoids: Vec<Sigmoid>,
     scales: Vec<f32>,
-    /// CIE D65 at unit luminance, shared by every texel.
+    /// CIE D65 at unit luminance with its blackbody tail (`illuminant`), shared by every texel.
     d65: Dense,
     /// The user's `scale` factor.
     scale: f32,
@@ -44,6 +47,25 @@ pub struct EnvMap {
     conditional: Vec<Distribution1D>,
     /// The image file it was read from (for `prism export`), if any.
     source: Option<ImageSource>,
+}
+
+/// The temperature of the tail past D65's table: D65's correlated colour temperature (K).
+pub const TAIL_KELVIN: f32 = 6504.0;
+/// Where the tail ends (nm); the map is 0 past it.
+pub const TAIL_END: f32 = 2500.0;
+
+/// CIE D65 at unit luminance, continued past its table's last sample by a `TAIL_KELVIN`
+/// blackbody scaled to equal it there (module docs).
+pub fn illuminant() -> Dense {
+    let d65 = match crate::spectrum::data::named_illuminant("D65") {
+        Some(crate::spectrum::Curve::Dense(d)) => d,
+        _ => unreachable!("the embedded D65 table is evenly spaced"),
+    };
+    let last = d65.range().1;
+    let k = d65.eval(last) / crate::spectrum::curve::planck(last, TAIL_KELVIN);
+    d65.continued(TAIL_END, |l| {
+        k * crate::spectrum::curve::planck(l, TAIL_KELVIN)
+    })
 }
 
 /// Rec. 709 luminance of linear RGB.
@@ -83,10 +105,7 @@ impl EnvMap {
                 scales.push(0.0);
             }
         }
-        let d65 = match crate::spectrum::data::named_illuminant("D65") {
-            Some(crate::spectrum::Curve::Dense(d)) => d,
-            _ => unreachable!("the embedded D65 table is evenly spaced"),
-        };
+        let d65 = illuminant();
 
         // Cell (i, j) lies between columns i, i+1 (wrapping) and rows j, j+1.
         let lum: Vec<f32> = image.pixels.iter().map(|&p| luminance(p)).collect();

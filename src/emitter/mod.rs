@@ -14,7 +14,7 @@ use crate::ray::Ray;
 use crate::shape::Shape;
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 pub use area::{AreaEmitter, AreaLightSample};
-pub use envmap::{BrightCells, EnvMap};
+pub use envmap::{illuminant as envmap_illuminant, BrightCells, EnvMap, TAIL_END, TAIL_KELVIN};
 use glam::{Vec2, Vec3};
 pub use radiance::{AreaRadiance, EmissionTexel, EmissionTexture};
 pub use spot::Spot;

@@ -214,14 +214,15 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     }
 
     // Outputs: the sensor (or the older `outputs`).
+    let main = crate::load::sensor::build(
+        cfg.sensor.as_ref(),
+        &cfg.outputs,
+        file,
+        range,
+        &mut warnings,
+    )?;
     let channels = FilmChannels {
-        sensor: crate::load::sensor::build(
-            cfg.sensor.as_ref(),
-            &cfg.outputs,
-            file,
-            range,
-            &mut warnings,
-        )?,
+        sensor: crate::load::sensor::with_extras(main, &cfg.sensors, file, range, &mut warnings)?,
     };
 
     // The film's memory, before meshes and textures load (again with the BVH below).

@@ -208,14 +208,24 @@ pub fn emitter(
                     *p = p.map(|c| c.max(0.0));
                 }
             }
-            // Texels are RGB × D65 (EnvMap::new_in), so they end where the D65 table does.
+            // Texels are RGB × D65 (EnvMap::new_in): past the D65 table they follow its
+            // blackbody tail, a chosen extension the user should know about.
             if let Some((a, b)) = crate::spectrum::data::named_illuminant("D65")
                 .and_then(|d| d.support())
                 .filter(|&(a, b)| a > range.0 || b < range.1)
             {
+                let (k, end) = (crate::emitter::TAIL_KELVIN, crate::emitter::TAIL_END);
+                let mut parts = Vec::new();
+                if b < range.1 {
+                    parts.push(format!("past {b} nm it continues as a {k} K blackbody scaled to D65 at {b} nm (a chosen tail, not data; 0 past {end} nm)"));
+                }
+                if a > range.0 {
+                    parts.push(format!("below {a} nm it is 0"));
+                }
                 warnings.push(format!(
-                    "{}: {field}.filename: an environment map's radiance is its RGB × D65, whose data cover {a}–{b} nm only: it is 0 elsewhere in the render range {}–{} nm",
+                    "{}: {field}.filename: an environment map's radiance is its RGB × D65, whose data cover {a}–{b} nm only: {} in the render range {}–{} nm",
                     file.display(),
+                    parts.join("; "),
                     range.0,
                     range.1
                 ));

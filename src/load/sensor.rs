@@ -5,7 +5,7 @@ mod band_groups;
 mod camera_model;
 mod raw;
 
-use crate::config::sensor::{BandConfig, SensorConfig, SensorField, SensorFile};
+use crate::config::sensor::{BandConfig, NamedSensor, SensorConfig, SensorField, SensorFile};
 use crate::config::OutputConfig;
 use crate::error::InputError;
 use crate::sensor::bands::{Response, Shape};
@@ -77,41 +77,97 @@ pub fn build(
                     .field("outputs")
                     .hint("`sensor` replaces `outputs`: move rgb/xyz/bands into the sensor (configs/README.md)"));
             }
-            match s {
-                SensorField::Inline(cfg) => from_config(
-                    cfg,
-                    &At {
-                        file: scene,
-                        prefix: "sensor",
-                    },
-                    range,
-                    warnings,
-                ),
-                SensorField::Empty(()) => from_config(
-                    &SensorConfig::default(),
-                    &At {
-                        file: scene,
-                        prefix: "sensor",
-                    },
-                    range,
-                    warnings,
-                ),
-                SensorField::File(SensorFile::File(p)) => {
-                    let path = scene.parent().unwrap_or(Path::new(".")).join(p);
-                    let cfg = read_file(&path)?;
-                    from_config(
-                        &cfg,
-                        &At {
-                            file: &path,
-                            prefix: "",
-                        },
-                        range,
-                        warnings,
-                    )
-                }
-            }
+            field(s, scene, "sensor", range, warnings)
         }
     }
+}
+
+/// A sensor field of `scene` at `prefix` (`sensor`, `sensors[1].sensor`): inline or a file.
+fn field(
+    s: &SensorField,
+    scene: &Path,
+    prefix: &str,
+    range: (f32, f32),
+    warnings: &mut Vec<String>,
+) -> Result<Sensor, InputError> {
+    match s {
+        SensorField::Inline(cfg) => from_config(
+            cfg,
+            &At {
+                file: scene,
+                prefix,
+            },
+            range,
+            warnings,
+        ),
+        SensorField::Empty(()) => from_config(
+            &SensorConfig::default(),
+            &At {
+                file: scene,
+                prefix,
+            },
+            range,
+            warnings,
+        ),
+        SensorField::File(SensorFile::File(p)) => {
+            let path = scene.parent().unwrap_or(Path::new(".")).join(p);
+            let cfg = read_file(&path)?;
+            from_config(
+                &cfg,
+                &At {
+                    file: &path,
+                    prefix: "",
+                },
+                range,
+                warnings,
+            )
+        }
+    }
+}
+
+/// `main` with the scene's further `sensors` on the same samples (src/sensor/multi.rs), each
+/// name checked: a lowercase word, listed once, and no prefix the main sensor's channels or
+/// the AOV layers use (so every EXR channel name stays unique).
+pub fn with_extras(
+    main: Sensor,
+    list: &[NamedSensor],
+    scene: &Path,
+    range: (f32, f32),
+    warnings: &mut Vec<String>,
+) -> Result<Sensor, InputError> {
+    let mut taken: BTreeSet<String> = main
+        .own_channel_names()
+        .iter()
+        .map(|n| n.split('.').next().unwrap_or(n).to_string())
+        .collect();
+    taken.extend(["raw", "camera", "corrected"].map(String::from));
+    let mut extras = Vec::new();
+    for (i, ns) in list.iter().enumerate() {
+        let at = format!("sensors[{i}]");
+        let n = &ns.name;
+        let word = n.starts_with(|c: char| c.is_ascii_lowercase())
+            && n.chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+        let problem = if !word {
+            Some(format!("the sensor name \"{n}\" is not a lowercase word"))
+        } else if crate::film::Aov::parse(n).is_some() || taken.contains(n) {
+            Some(format!(
+                "the sensor name \"{n}\" is already a channel prefix of this render"
+            ))
+        } else if list[..i].iter().any(|o| o.name == *n) {
+            Some(format!("two sensors are named \"{n}\""))
+        } else {
+            None
+        };
+        if let Some(m) = problem {
+            return Err(InputError::new(scene, m)
+                .field(format!("{at}.name"))
+                .hint("name each sensor with a distinct lowercase word such as \"nikon\" or \"hsi\" (a-z, 0-9, _), not an AOV's or a channel layer's name"));
+        }
+        let sensor = field(&ns.sensor, scene, &format!("{at}.sensor"), range, warnings)?;
+        extras.push((n.clone(), sensor));
+    }
+    Ok(main.with_extras(extras))
 }
 
 /// `--sensor FILE` on the command line (relative to the current directory).

@@ -89,6 +89,16 @@ fn hashes(job: &Job, scene_file: &Path) -> (Value, String) {
     if let Ok(v) = serde_json::to_value(&job.config) {
         walk(&v, base, &mut files);
     }
+    // And every file the load read that the config does not name itself: a glTF's buffers and
+    // images, the curve files a sensor file names, spectrum files.
+    let normal = crate::io::paths::normal;
+    let mut known: std::collections::BTreeSet<PathBuf> = files.iter().map(|p| normal(p)).collect();
+    known.insert(normal(scene_file));
+    for p in &job.inputs {
+        if p.is_file() && known.insert(normal(p)) {
+            files.insert(p.clone());
+        }
+    }
     let sha = |p: &Path| -> String {
         std::fs::read(p)
             .map(|b| format!("{:x}", Sha256::digest(&b)))
@@ -195,6 +205,19 @@ pub fn value(
         })
     });
     let (files, scene_hash) = hashes(job, scene_file);
+    // Every sensor of the render (the main one first, unnamed) and the EXR channels it wrote.
+    fn sensors(s: &crate::sensor::Sensor) -> Value {
+        let main = json!({"name": Value::Null, "prefix": "", "channels": s.own_channel_names()});
+        let extras = s.extras().iter().map(|e| {
+            json!({
+                "name": e.name,
+                "prefix": format!("{}.", e.name),
+                "channels": e.sensor.own_channel_names().iter().map(|c| format!("{}.{c}", e.name)).collect::<Vec<_>>(),
+                "attributes": e.sensor.layers.header.iter().map(|(k, v)| (k.clone(), Value::from(v.clone()))).collect::<serde_json::Map<_, _>>(),
+            })
+        });
+        Value::Array(std::iter::once(main).chain(extras).collect())
+    }
     let aov_list: Vec<Value> = job
         .aovs
         .iter()
@@ -227,7 +250,14 @@ pub fn value(
             "units": "spectral radiance, W m^-2 sr^-1 nm^-1 (bands: mean over the band); XYZ and RGB: the CMF-weighted integral with Y of a unit constant spectrum = 1",
             "bands": bands,
             "exposure": Value::Null,
+            "camera": layers.camera.as_ref().map(|m| json!({
+                "name": m.name,
+                "scale": m.exposure,
+                "white_balance": m.white_balance.to_array(),
+                "units": crate::sensor::camera::UNITS,
+            })),
         },
+        "sensors": sensors(&c.sensor),
         "render": {
             "prism_version": env!("CARGO_PKG_VERSION"),
             "scene_file": scene_file,

@@ -126,6 +126,10 @@ pub fn exposure_scale(iso: f64, shutter: f64, f_number: f64) -> f64 {
     iso / 100.0 * shutter * std::f64::consts::PI / (4.0 * f_number * f_number)
 }
 
+/// What the camera channels' values are (the EXR header's `prism:cameraUnits`, the sidecar's
+/// `sensor.camera.units`): the module docs' formula with the header's own factors.
+pub const UNITS: &str = "camera.R/G/B = k * m_c * integral(L * c_c dlambda) / integral(g dlambda), with L the spectral radiance reaching the pixel (W m^-2 sr^-1 nm^-1), c_c the camera's curve of channel c, g its green curve, m the white-balance multipliers (prism:whiteBalance; 1 when off) and k the exposure factor (prism:exposureScale) = (ISO/100) * t * pi / (4 N^2) in s, or 1 without an exposure: a spectrally flat radiance of 1 reads G = k, and the white-balance illuminant reads R = G = B. With an exposure the values are ISO-scaled green-weighted radiant exposure on the sensor (J m^-2 nm^-1); corrected.R/G/B is prism:cameraToXYZ times them, in prism:correctedSpace";
+
 /// A camera ready to develop its accumulated channels.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CameraModel {
@@ -169,6 +173,7 @@ impl CameraModel {
                 nums(&self.white_balance.to_array()),
             ),
             ("prism:exposureScale".into(), format!("{:e}", self.exposure)),
+            ("prism:cameraUnits".into(), UNITS.into()),
             (
                 "prism:correctedSpace".into(),
                 format!("{:?}", self.corrected),

@@ -27,10 +27,13 @@ impl FilmChannels {
             uint_channels: Vec::new(),
             header: self.sensor.layers.header.clone(),
         };
+        film.header.extend(self.sensor.extra_header());
         if let Some(raw) = &self.sensor.raw {
             film.uint_channels
                 .push(raw.mosaic(means, slots, width, height, seed));
         }
+        film.uint_channels
+            .extend(self.sensor.extra_mosaics(means, width, height, seed));
         film
     }
 }

@@ -18,6 +18,7 @@ pub mod camera;
 pub mod colour_space;
 pub mod develop;
 pub mod export;
+mod multi;
 pub mod names;
 pub mod observer;
 pub mod raw;
@@ -27,6 +28,7 @@ pub use bands::{Bands, Response, Shape};
 pub use camera::CameraModel;
 pub use colour_space::RgbSpace;
 pub use develop::FilmChannels;
+pub use multi::Extra;
 pub use observer::Observer;
 
 use crate::film::{spectral_channel_name, Channel};
@@ -89,6 +91,8 @@ pub struct Sensor {
     pub layers: Layers,
     /// The raw sensor, read out once on the finished film (`raw::RawModel::mosaic`).
     pub raw: Option<raw::RawModel>,
+    /// Further sensors on the same samples, their slots after this one's (multi.rs).
+    extras: Vec<Extra>,
 }
 
 /// Accumulator slots: X, Y, Z first, then one per band.
@@ -117,6 +121,7 @@ impl Sensor {
             responses,
             layers,
             raw: None,
+            extras: Vec::new(),
         }
     }
 
@@ -128,9 +133,9 @@ impl Sensor {
         &self.responses
     }
 
-    /// Number of accumulator slots per pixel.
+    /// Number of accumulator slots per pixel (the extra sensors' included).
     pub fn slots(&self) -> usize {
-        self.response_base + self.responses.len()
+        self.response_base + self.responses.len() + self.extra_slots()
     }
 
     /// Adds one camera sample: radiance `l` at the lanes, lane weights `w` (see module docs).
@@ -164,6 +169,9 @@ impl Sensor {
         }
         if !self.responses.is_empty() {
             self.add_responses(acc, l, w, wl);
+        }
+        if !self.extras.is_empty() {
+            self.add_extras(acc, l, w, wl);
         }
     }
 
@@ -279,6 +287,7 @@ impl Sensor {
                 &corrected,
             );
         }
+        channels.extend(self.extra_channels(means, n));
         (channels, band_centers)
     }
 }

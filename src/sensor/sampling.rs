@@ -17,6 +17,26 @@ const FLOOR: f64 = 0.01;
 impl Sensor {
     /// The unnormalised sampling density on `cells` equal cells over `range` (cell means).
     pub fn sampling_density(&self, range: (f32, f32), cells: usize) -> Vec<f32> {
+        if self.extras.is_empty() {
+            return self.own_density(range, cells);
+        }
+        // Several sensors (multi.rs): the mean of their densities, each of unit area, so
+        // every sensor's channels get samples where they respond.
+        let k = 1 + self.extras.len();
+        let mut total = self.own_density(range, cells);
+        for e in &self.extras {
+            for (t, d) in total
+                .iter_mut()
+                .zip(e.sensor.sampling_density(range, cells))
+            {
+                *t += d;
+            }
+        }
+        total.iter().map(|t| t / k as f32).collect()
+    }
+
+    /// This sensor's density, without the extra sensors'.
+    fn own_density(&self, range: (f32, f32), cells: usize) -> Vec<f32> {
         let (lo, hi) = range;
         let h = (hi - lo) as f64 / cells as f64;
         let mut total = vec![0.0f64; cells];

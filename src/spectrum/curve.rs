@@ -79,9 +79,25 @@ impl Dense {
         out
     }
 
-    fn range(&self) -> (f32, f32) {
+    /// The first and last sample's wavelengths (nm).
+    pub fn range(&self) -> (f32, f32) {
         let n = self.values.len() as f32 - 1.0;
         (self.start, self.start + n / self.inv_step)
+    }
+
+    /// This table continued at its own step by `tail(λ)` up to `end` nm: the same start, step
+    /// and samples, so it evaluates to the same bits inside its old range.
+    pub fn continued(&self, end: f32, tail: impl Fn(f32) -> f32) -> Dense {
+        let mut values = self.values.clone();
+        let step = 1.0 / self.inv_step as f64;
+        loop {
+            let l = self.start as f64 + values.len() as f64 * step;
+            if l > end as f64 + 1e-3 {
+                break;
+            }
+            values.push(tail(l as f32));
+        }
+        Dense { values, ..*self }
     }
 }
 

@@ -126,6 +126,7 @@ impl Base {
                     }
                 }
             }
+            self.check_illuminants(l, r, &f)?;
         }
         if let Some(e) = &c.envmap {
             let r = self.light(&e.target, "envmap.target")?;
@@ -314,6 +315,48 @@ impl Base {
         }
         if let Some(e) = v.exposure {
             self.range("sensor.exposure", e, -64.0, 64.0, "exposure in stops")?;
+        }
+        Ok(())
+    }
+}
+
+impl Base {
+    /// A light's `illuminants`: known CIE names, not beside `temperature`, not on an envmap.
+    fn check_illuminants(
+        &self,
+        l: &crate::dataset::config::LightVariation,
+        r: LightRef,
+        f: &str,
+    ) -> Result<(), InputError> {
+        if l.illuminants.is_empty() {
+            return Ok(());
+        }
+        let field = format!("{f}.illuminants");
+        if l.temperature.is_some() {
+            return Err(self
+                .err(
+                    &field,
+                    "a light takes `temperature` or `illuminants`, not both",
+                )
+                .hint("drop one of them"));
+        }
+        if let LightRef::Emitter(e) = r {
+            if matches!(self.scene.emitters[e], EmitterConfig::Envmap { .. }) {
+                return Err(self
+                    .err(&field, "an environment map's spectrum is its image")
+                    .hint("vary its `intensity` only"));
+            }
+        }
+        let known = crate::spectrum::data::illuminant_names();
+        for (j, n) in l.illuminants.iter().enumerate() {
+            if !known.contains(&n.as_str()) {
+                return Err(self
+                    .err(
+                        &format!("{field}[{j}]"),
+                        format!("unknown illuminant \"{n}\""),
+                    )
+                    .hint(format!("the CIE illuminants are: {}", known.join(", "))));
+            }
         }
         Ok(())
     }
