@@ -15,6 +15,7 @@ pub mod instancing;
 mod materials;
 mod objects;
 mod principled;
+mod relight;
 pub mod sensor;
 
 /// The input-file record, as the loader's modules name it (`super::inputs`).
@@ -24,3 +25,4 @@ use crate::scene::Scene;
 pub use build::{build, load, load_str, Job};
 pub use geometry::transform;
 pub use objects::{Object, Objects};
+pub use relight::{geometry_key, relight};
