@@ -5,7 +5,9 @@
 mod dataset;
 mod glue;
 mod load;
+mod params;
 mod render;
+mod scene_params;
 
 use prism_core::error::Error;
 use pyo3::prelude::*;
@@ -33,6 +35,7 @@ fn prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<load::Scene>()?;
     m.add_class::<render::Render>()?;
+    m.add_class::<scene_params::Params>()?;
     m.add_class::<dataset::Dataset>()?;
     m.add_function(wrap_pyfunction!(load::load_file, m)?)?;
     m.add_function(wrap_pyfunction!(load::load_string, m)?)?;
