@@ -100,3 +100,30 @@ pub fn wavelengths<const N: usize>(lambda: &[f32]) -> Vec<prism_core::spectrum::
         })
         .collect()
 }
+
+/// Uniform numbers for a sampling decision: each in [0, 1], as a sampler gives them (outside
+/// it a sampling routine could index past its tables).
+pub fn unit(v: Vec<f32>, name: &str) -> PyResult<Vec<f32>> {
+    match v.iter().find(|u| !(0.0..=1.0).contains(*u)) {
+        None => Ok(v),
+        Some(u) => Err(SceneError::new_err(format!(
+            "{name} holds {u}; uniform numbers must lie in [0, 1]"
+        ))),
+    }
+}
+
+pub fn unit2(v: Vec<Vec2>, name: &str) -> PyResult<Vec<Vec2>> {
+    unit(v.iter().flat_map(|u| u.to_array()).collect(), name)?;
+    Ok(v)
+}
+
+/// Wavelengths in nm: finite and positive, at most `load::MAX_NM`.
+pub fn nm(v: Vec<f32>, name: &str) -> PyResult<Vec<f32>> {
+    let max = prism_core::load::MAX_NM;
+    match v.iter().find(|l| !(**l > 0.0 && **l <= max)) {
+        None => Ok(v),
+        Some(l) => Err(SceneError::new_err(format!(
+            "{name} holds {l}; wavelengths are in nm, positive and at most {max}"
+        ))),
+    }
+}

@@ -33,7 +33,7 @@ fn lanes(
     wavelengths: &PyArrayLike2<'_, f32, AllowTypeChange>,
 ) -> PyResult<(usize, Vec<f32>)> {
     let n = wavelengths.shape()[1];
-    let lambda = arrays::rows(wavelengths, n, "wavelengths")?;
+    let lambda = arrays::nm(arrays::rows(wavelengths, n, "wavelengths")?, "wavelengths")?;
     arrays::same_len(lambda.len() / n.max(1), hits.hits.len(), "wavelengths")?;
     Ok((n, lambda))
 }
@@ -48,6 +48,7 @@ impl Scene {
         wo: PyArrayLike2<'py, f32, AllowTypeChange>,
         wavelengths: PyArrayLike2<'py, f32, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        hits.of(self)?;
         let wo = arrays::vec3s(&wo, "wo")?;
         arrays::same_len(wo.len(), hits.hits.len(), "wo")?;
         let (n, lambda) = lanes(hits, &wavelengths)?;
@@ -75,6 +76,7 @@ impl Scene {
         wo: PyArrayLike2<'py, f32, AllowTypeChange>,
         wavelengths: PyArrayLike2<'py, f32, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        hits.of(self)?;
         let wo = arrays::vec3s(&wo, "wo")?;
         arrays::same_len(wo.len(), hits.hits.len(), "wo")?;
         let (n, lambda) = lanes(hits, &wavelengths)?;
@@ -103,9 +105,10 @@ impl Scene {
         u_dir: PyArrayLike2<'py, f32, AllowTypeChange>,
         wavelengths: PyArrayLike2<'py, f32, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        hits.of(self)?;
         let m = hits.hits.len();
-        let ul = arrays::floats(&u_lobe);
-        let ud = arrays::vec2s(&u_dir, "u_dir")?;
+        let ul = arrays::unit(arrays::floats(&u_lobe), "u_lobe")?;
+        let ud = arrays::unit2(arrays::vec2s(&u_dir, "u_dir")?, "u_dir")?;
         arrays::same_len(ul.len(), m, "u_lobe")?;
         arrays::same_len(ud.len(), m, "u_dir")?;
         let (n, lambda) = lanes(hits, &wavelengths)?;

@@ -28,13 +28,15 @@ pub struct Hit {
 #[pyclass(frozen, module = "prism")]
 pub struct Hits {
     pub hits: Vec<Hit>,
+    /// The scene that traced them (its address): another scene's shapes are not theirs.
+    scene: usize,
     /// Material and emitter of each hit, as the scene was when it was traced.
     material: Vec<i32>,
     emitter: Vec<i32>,
 }
 
 impl Hits {
-    fn new(job: &prism_core::load::Job, hits: Vec<Hit>) -> Hits {
+    fn new(scene: &Scene, job: &prism_core::load::Job, hits: Vec<Hit>) -> Hits {
         let sc = &job.scene;
         let of = |h: &Hit, f: &dyn Fn(usize) -> i32| h.si.map_or(-1, |s| f(s.shape as usize));
         Hits {
@@ -47,6 +49,18 @@ impl Hits {
                 .map(|h| of(h, &|s| sc.shape_emitter[s].map_or(-1, |e| e as i32)))
                 .collect(),
             hits,
+            scene: scene as *const Scene as usize,
+        }
+    }
+
+    /// Refuses hits that `scene` did not trace.
+    pub fn of(&self, scene: &Scene) -> PyResult<&[Hit]> {
+        if self.scene == scene as *const Scene as usize {
+            Ok(&self.hits)
+        } else {
+            Err(crate::SceneError::new_err(
+                "these hits were traced in another scene; pass them to the scene whose intersect made them",
+            ))
         }
     }
 
@@ -124,7 +138,12 @@ impl Scene {
         u_film: PyArrayLike2<'py, f32, AllowTypeChange>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         let px = arrays::vec2s(&pixel, "pixel")?;
-        let u = arrays::vec2s(&u_film, "u_film")?;
+        if let Some(p) = px.iter().find(|p| !p.is_finite()) {
+            return Err(crate::SceneError::new_err(format!(
+                "pixel holds {p}; film positions must be finite"
+            )));
+        }
+        let u = arrays::unit2(arrays::vec2s(&u_film, "u_film")?, "u_film")?;
         arrays::same_len(u.len(), px.len(), "u_film")?;
         let st = self.read();
         let job = &st.job;
@@ -171,7 +190,7 @@ impl Scene {
                     }
                 })
                 .collect();
-            Hits::new(job, hits)
+            Hits::new(self, job, hits)
         }))
     }
 
@@ -183,6 +202,7 @@ impl Scene {
         hits: &Hits,
         d: PyArrayLike2<'_, f32, AllowTypeChange>,
     ) -> PyResult<Hits> {
+        hits.of(self)?;
         let d = arrays::vec3s(&d, "d")?;
         arrays::same_len(d.len(), hits.hits.len(), "d")?;
         let st = self.read();
@@ -206,7 +226,7 @@ impl Scene {
                     }
                 })
                 .collect();
-            Hits::new(job, next)
+            Hits::new(self, job, next)
         }))
     }
 
@@ -223,13 +243,14 @@ impl Scene {
         u: PyArrayLike2<'py, f32, AllowTypeChange>,
         wavelengths: PyArrayLike2<'py, f32, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        hits.of(self)?;
         let m = hits.hits.len();
-        let us = arrays::floats(&u_select);
-        let u = arrays::vec2s(&u, "u")?;
+        let us = arrays::unit(arrays::floats(&u_select), "u_select")?;
+        let u = arrays::unit2(arrays::vec2s(&u, "u")?, "u")?;
         arrays::same_len(us.len(), m, "u_select")?;
         arrays::same_len(u.len(), m, "u")?;
         let n = wavelengths.shape()[1];
-        let lambda = arrays::rows(&wavelengths, n, "wavelengths")?;
+        let lambda = arrays::nm(arrays::rows(&wavelengths, n, "wavelengths")?, "wavelengths")?;
         arrays::same_len(lambda.len() / n.max(1), m, "wavelengths")?;
         let st = self.read();
         let job = &st.job;
@@ -274,9 +295,10 @@ impl Scene {
         hits: &Hits,
         wavelengths: PyArrayLike2<'py, f32, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        hits.of(self)?;
         let m = hits.hits.len();
         let n = wavelengths.shape()[1];
-        let lambda = arrays::rows(&wavelengths, n, "wavelengths")?;
+        let lambda = arrays::nm(arrays::rows(&wavelengths, n, "wavelengths")?, "wavelengths")?;
         arrays::same_len(lambda.len() / n.max(1), m, "wavelengths")?;
         let st = self.read();
         let job = &st.job;
@@ -312,6 +334,7 @@ impl Scene {
     /// light's point, or for a missed ray its direction on the environment; 0 otherwise. The
     /// MIS weight of a BSDF-sampled ray that lands on a light needs it.
     fn emitter_pdf<'py>(&self, py: Python<'py>, hits: &Hits) -> PyResult<Bound<'py, PyAny>> {
+        hits.of(self)?;
         let st = self.read();
         let job = &st.job;
         let pdf: Vec<f32> = py.detach(|| {

@@ -64,7 +64,7 @@ pub fn sample_wavelengths(
     }
     sample(
         &WavelengthSampler::new(kind, lo, hi),
-        &arrays::floats(&u),
+        &arrays::unit(arrays::floats(&u), "u")?,
         lanes,
         py,
     )
@@ -115,7 +115,10 @@ pub fn spectrum<'py>(
         .resolve(role, &ctx, &mut Vec::new())
         .map_err(|e| crate::to_py(e.into()))?;
     let shape = wavelengths.shape().to_vec();
-    let l: Vec<f32> = wavelengths.as_array().iter().copied().collect();
+    let l = arrays::nm(
+        wavelengths.as_array().iter().copied().collect(),
+        "wavelengths",
+    )?;
     let v: Vec<f32> = py.detach(|| l.iter().map(|&l| curve.eval_one(l)).collect());
     Ok(numpy::PyArray1::from_vec(py, v).reshape(shape)?.into_any())
 }
@@ -130,8 +133,11 @@ pub fn cie_xyz<'py>(
     let cmf = prism_core::sensor::Observer::Cie1931.cmf();
     let mut shape = wavelengths.shape().to_vec();
     shape.push(3);
-    let v: Vec<f32> = wavelengths
-        .as_array()
+    let l = arrays::nm(
+        wavelengths.as_array().iter().copied().collect(),
+        "wavelengths",
+    )?;
+    let v: Vec<f32> = l
         .iter()
         .flat_map(|&l| cmf.eval(l).map(|c| c / cmf.y_integral))
         .collect();
@@ -181,6 +187,6 @@ impl Scene {
             let st = self.read();
             (st.job.settings.wavelengths, st.job.settings.lanes)
         };
-        sample(&s, &arrays::floats(&u), n, py)
+        sample(&s, &arrays::unit(arrays::floats(&u), "u")?, n, py)
     }
 }

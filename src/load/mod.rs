@@ -22,7 +22,7 @@ pub mod sensor;
 use crate::io::inputs;
 /// The scene the loader builds (`super::Scene`).
 use crate::scene::Scene;
-pub use build::{build, load, load_str, Job};
+pub use build::{build, load, load_str, Job, MAX_NM};
 pub use geometry::transform;
 pub use objects::{Object, Objects};
 pub use relight::{geometry_key, relight};

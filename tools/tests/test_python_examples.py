@@ -144,3 +144,29 @@ def test_wavelengths_spectra_and_streams():
     sobol = prism.sampler_stream([3] * 64, list(range(64)), count=2, kind="Sobol", seed=1)
     # Owen-scrambled Sobol: the first 64 points put one in each of 64 cells of 1/64 in x.
     assert sorted((sobol[:, 0] * 64).astype(int)) == list(range(64))
+
+
+def test_bad_arrays_raise_and_never_crash():
+    """Each mistake raises SceneError naming the argument: hits of another scene, uniforms
+    outside [0, 1], wavelengths that are not positive nm, a non-finite pixel; a ray of NaN or
+    zero direction misses instead of reaching the accelerator."""
+    scene, other = cornell(), cornell()
+    o = np.tile([0, 0.5, 0], (2, 1))
+    h = scene.intersect(o, np.array([[0, 0, -1], [0, 1, 0]], np.float32))
+    lam, _ = scene.sample_wavelengths(np.array([0.1, 0.6]))
+    wo = np.tile([0, 0.6, 0.8], (2, 1))
+    with pytest.raises(prism.SceneError, match="traced in another scene"):
+        other.bsdf_eval(h, wo, lam)
+    with pytest.raises(prism.SceneError, match="traced in another scene"):
+        other.intersect_from(h, wo)
+    with pytest.raises(prism.SceneError, match=r"u_lobe holds 1.5; uniform numbers must lie in \[0, 1\]"):
+        scene.bsdf_sample(h, np.array([1.5, 0.2]), np.full((2, 2), 0.5), lam)
+    with pytest.raises(prism.SceneError, match="u holds NaN"):
+        scene.emitter_sample(h, np.array([0.1, 0.2]), np.array([[np.nan, 0], [0, 0]]), lam)
+    with pytest.raises(prism.SceneError, match="wavelengths holds -5; wavelengths are in nm"):
+        scene.bsdf_eval(h, wo, np.where(lam > 0, -5.0, lam))
+    with pytest.raises(prism.SceneError, match="pixel holds"):
+        scene.camera_rays(np.array([[np.nan, 0]]), np.full((1, 2), 0.5))
+    miss = scene.intersect(np.array([[np.nan, 0, 0], [0, 0.5, 0]]), np.array([[0, 0, -1], [0, 0, 0]]))
+    assert list(miss.valid) == [False, False]
+    assert list(scene.intersect_from(h, np.zeros((2, 3))).valid) == [False, False]
