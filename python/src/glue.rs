@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 #[derive(Clone)]
 pub enum Source {
     File(PathBuf),
-    Config(Box<prism_core::config::SceneConfig>),
+    Config,
 }
 
 /// The render arguments the module takes, as `prism render`'s flags.
@@ -69,18 +69,81 @@ pub fn build(
     Ok(prism_core::load::build(cfg, file)?)
 }
 
-/// Rebuilds `source` with the overrides applied.
-pub fn rebuild(source: &Source, file: &Path, o: &Overrides) -> Result<Job, Error> {
+/// Builds `cfg` (the scene's current config, `source`'s with its parameters set) in full with
+/// the overrides applied; a file is read again as the CLI reads it (its inputs recorded).
+pub fn rebuild(
+    source: &Source,
+    file: &Path,
+    o: &Overrides,
+    cfg: &prism_core::config::SceneConfig,
+) -> Result<Job, Error> {
     match source {
-        Source::File(p) => load_file(p, o),
-        Source::Config(cfg) => build((**cfg).clone(), file, o),
+        Source::File(p) => {
+            prism_core::resources::configure(None, o.threads);
+            prism_core::load::load(p, |c| {
+                *c = cfg.clone();
+                o.edit(c)
+            })
+        }
+        Source::Config => build(cfg.clone(), file, o),
+    }
+}
+
+/// Whether the scene's geometry comes from a glTF file, which only a full load builds.
+pub fn has_gltf(source: &Source, cfg: &prism_core::config::SceneConfig) -> bool {
+    matches!(source, Source::File(p) if prism_core::load::gltf::is_gltf(p))
+        || cfg
+            .shapes
+            .iter()
+            .any(|s| matches!(s.shape, prism_core::config::ShapeKind::Gltf { .. }))
+}
+
+/// Rebuilds `job` for `cfg` of the same geometry (`load::relight`): all but shapes and the
+/// accelerator; files the new config reads (a spectrum, a texture) join the job's inputs.
+pub fn relight(
+    job: &mut Job,
+    cfg: prism_core::config::SceneConfig,
+    file: &Path,
+) -> Result<(), Error> {
+    let (r, read) = prism_core::io::inputs::collect(|| prism_core::load::relight(job, cfg, file));
+    r?;
+    for p in read {
+        if !job.inputs.contains(&p) {
+            job.inputs.push(p);
+        }
+    }
+    Ok(())
+}
+
+/// `job` without its geometry: what a finished render keeps to write its files and sidecar
+/// (which read the camera, never the shapes), so the scene stays free to change.
+pub fn shell(job: &Job) -> Job {
+    let scene = prism_core::scene::Scene::new(
+        job.scene.camera.clone(),
+        Vec::new(),
+        Vec::new(),
+        Vec::new(),
+        Vec::new(),
+        Vec::new(),
+        prism_core::accel::AccelKind::Bvh,
+    );
+    Job {
+        scene,
+        settings: job.settings.clone(),
+        channels: job.channels.clone(),
+        warnings: job.warnings.clone(),
+        config: job.config.clone(),
+        inputs: job.inputs.clone(),
+        aovs: job.aovs.clone(),
+        objects: job.objects.clone(),
     }
 }
 
 /// The render was stopped (Ctrl-C): raised through the workers by `progress` and caught here.
 pub struct Cancelled;
 
-/// Renders `job` on `threads` workers (None: one per core), as `prism render`. `progress` is
+/// Renders `job` on `threads` workers (None: one per core), as `prism render`, the sensor's
+/// channels scaled by `exposure_scale` (a dataset frame's sensor exposure; 1: none). `progress` is
 /// told each finished tile's samples; once `cancel` is set the next tile to begin or finish
 /// unwinds the render (`resume_unwind` runs no panic hook, so nothing is printed) and `Err(Cancelled)` is
 /// returned with every buffer freed.
@@ -88,6 +151,7 @@ pub fn render(
     job: &Job,
     file: &Path,
     threads: Option<usize>,
+    exposure_scale: f32,
     cancel: &AtomicBool,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Result<Rendered, Cancelled>, Error> {
@@ -98,7 +162,9 @@ pub fn render(
         }
         progress(n)
     };
-    let run = std::panic::AssertUnwindSafe(|| pool.install(|| pipeline::render(job, 1.0, &tick)));
+    let run = std::panic::AssertUnwindSafe(|| {
+        pool.install(|| pipeline::render(job, exposure_scale, &tick))
+    });
     match std::panic::catch_unwind(run) {
         Ok(r) => Ok(Ok(r)),
         Err(p) if p.is::<Cancelled>() => Ok(Err(Cancelled)),

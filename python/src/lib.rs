@@ -2,10 +2,16 @@
 //! `prism render` writes them. The render steps themselves live in `glue`; this file declares the
 //! module and turns prism's errors into Python's.
 
+mod arrays;
+mod bsdfs;
 mod dataset;
 mod glue;
 mod load;
+mod params;
+mod parts;
 mod render;
+mod scene_params;
+mod spectra;
 
 use prism_core::error::Error;
 use pyo3::prelude::*;
@@ -33,11 +39,17 @@ fn prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<load::Scene>()?;
     m.add_class::<render::Render>()?;
+    m.add_class::<scene_params::Params>()?;
+    m.add_class::<parts::Hits>()?;
     m.add_class::<dataset::Dataset>()?;
     m.add_function(wrap_pyfunction!(load::load_file, m)?)?;
     m.add_function(wrap_pyfunction!(load::load_string, m)?)?;
     m.add_function(wrap_pyfunction!(load::load_dict, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(dataset::run_dataset, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::sample_wavelengths, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::spectrum, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::cie_xyz, m)?)?;
+    m.add_function(wrap_pyfunction!(spectra::sampler_stream, m)?)?;
     Ok(())
 }

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{mpsc, Arc};
+use std::sync::mpsc;
 use std::time::Duration;
 
 /// How often the calling thread looks for Ctrl-C while the workers render.
@@ -19,7 +19,7 @@ const SIGNAL_POLL: Duration = Duration::from_millis(50);
 /// A finished render.
 #[pyclass(frozen, module = "prism")]
 pub struct Render {
-    job: Arc<Job>,
+    job: Job,
     r: Rendered,
     file: PathBuf,
 }
@@ -53,17 +53,15 @@ pub fn render(
         sensor,
         threads,
     };
-    let job = scene.job_for(py, &o)?;
-    let file = scene.file.clone();
-    let s = &job.settings;
-    let bar = progress_bar(progress, s.width as u64 * s.height as u64 * s.spp as u64);
+    let bar = progress_bar(progress);
     let cancel = AtomicBool::new(false);
     let result = std::thread::scope(|sc| -> PyResult<_> {
         let (tx, rx) = mpsc::channel();
-        let (job, file, cancel, bar) = (&job, &file, &cancel, &bar);
+        let (o, cancel, bar) = (&o, &cancel, &bar);
+        // The scene is read (and rebuilt for the overrides) on this worker thread: it never
+        // waits for a parameter change holding the GIL.
         sc.spawn(move || {
-            let r = glue::render(job, file, threads, cancel, &|n| bar.inc(n));
-            let _ = tx.send(r);
+            let _ = tx.send(render_scene(scene, o, cancel, bar));
         });
         // The workers render without the GIL; this thread takes it back now and then only to
         // let Python run its signal handlers (Ctrl-C), which must run on the main thread.
@@ -89,7 +87,7 @@ pub fn render(
         }
     });
     bar.finish_and_clear();
-    let r = match result?.map_err(to_py)? {
+    let (r, job) = match result?.map_err(to_py)? {
         Ok(r) => r,
         Err(glue::Cancelled) => {
             return Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(
@@ -97,16 +95,47 @@ pub fn render(
             ))
         }
     };
-    Ok(Render { job, r, file })
+    Ok(Render {
+        job,
+        r,
+        file: scene.file.clone(),
+    })
+}
+
+type Outcome = Result<Result<(Rendered, Job), glue::Cancelled>, prism_core::error::Error>;
+
+/// Renders the scene as it is now (its parameters, its exposure), rebuilt first when `o`
+/// changes its config; the render with the job's shell (`glue::shell`) to write it by.
+fn render_scene(
+    scene: &Scene,
+    o: &Overrides,
+    cancel: &AtomicBool,
+    bar: &indicatif::ProgressBar,
+) -> Outcome {
+    let st = scene.read();
+    let scale = st.exposure.exp2();
+    let go = |job: &Job| -> Outcome {
+        let s = &job.settings;
+        bar.set_length(s.width as u64 * s.height as u64 * s.spp as u64);
+        let r = glue::render(job, &scene.file, o.threads, scale, cancel, &|n| bar.inc(n))?;
+        Ok(r.map(|r| (r, glue::shell(job))))
+    };
+    if o.change_config() {
+        let cfg = st.job.config.clone();
+        drop(st);
+        go(&glue::rebuild(&scene.source, &scene.file, o, &cfg)?)
+    } else {
+        go(&st.job)
+    }
 }
 
 /// A bar on a terminal; hidden elsewhere (and when `progress` is false).
-fn progress_bar(progress: bool, total: u64) -> indicatif::ProgressBar {
+fn progress_bar(progress: bool) -> indicatif::ProgressBar {
     use std::io::IsTerminal;
     if !(progress && std::io::stderr().is_terminal()) {
         return indicatif::ProgressBar::hidden();
     }
-    let b = indicatif::ProgressBar::new(total);
+    let b = indicatif::ProgressBar::new(0);
     if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}%  ETA {eta}")
     {
         b.set_style(style);

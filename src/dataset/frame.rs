@@ -3,8 +3,9 @@
 //! depends on time, thread count or the path of the output folder, so a frame rendered alone is
 //! byte-identical to the same frame of the full run.
 
-use crate::config::{SceneConfig, ShapeKind};
+use crate::config::SceneConfig;
 use crate::error::Error;
+use crate::load::geometry_key;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -18,24 +19,6 @@ pub struct GeometryCache {
     job: Option<crate::load::Job>,
     /// How many times geometry was built.
     pub builds: u32,
-}
-
-/// What decides a scene's geometry: its shapes without their materials and emitted spectra
-/// (whether a shape emits stays: area lights are built from their shapes), and the accelerator.
-fn geometry_key(cfg: &SceneConfig) -> String {
-    let shapes: Vec<_> = cfg
-        .shapes
-        .iter()
-        .map(|s| {
-            let mut s = s.clone();
-            s.material = None;
-            if let Some(e) = &mut s.emitter {
-                e.radiance = crate::config::SpectrumConfig::Constant(0.0);
-            }
-            s
-        })
-        .collect();
-    serde_json::to_string(&(shapes, cfg.accel)).expect("configs serialise")
 }
 
 impl GeometryCache {
@@ -53,53 +36,7 @@ impl GeometryCache {
     fn job(&mut self, cfg: SceneConfig, file: &Path) -> Result<&crate::load::Job, Error> {
         let key = geometry_key(&cfg);
         match &mut self.job {
-            Some(job) if key == self.key => {
-                // Non-emitting meshes stand in as unit spheres: their geometry is the cached one.
-                let mut light = cfg;
-                let dir = file.parent().unwrap_or(Path::new("."));
-                let mut meshes = Vec::new();
-                for s in &mut light.shapes {
-                    if s.emitter.is_none() && matches!(s.shape, ShapeKind::Mesh { .. }) {
-                        if let ShapeKind::Mesh { path } = &s.shape {
-                            meshes.push(crate::io::paths::normal(&dir.join(path)));
-                        }
-                        s.shape = ShapeKind::Sphere {
-                            center: [0.0; 3],
-                            radius: 1.0,
-                        };
-                        s.to_world.clear();
-                    }
-                }
-                let new = crate::load::build(light, file)?;
-                let (sc, n) = (&mut job.scene, new.scene);
-                sc.camera = n.camera;
-                sc.shape_material = n.shape_material;
-                sc.shape_emitter = n.shape_emitter;
-                sc.materials = n.materials;
-                sc.emitters = n.emitters;
-                sc.environment = n.environment;
-                job.settings = new.settings;
-                job.channels = new.channels;
-                job.config = new.config;
-                job.aovs = new.aovs;
-                // The frame's inputs, as a fresh build records them: this frame's files and
-                // the cached meshes it stands in for (the sidecar hashes them).
-                let mut inputs: Vec<PathBuf> = job
-                    .inputs
-                    .iter()
-                    .filter(|p| meshes.contains(&crate::io::paths::normal(p)))
-                    .cloned()
-                    .collect();
-                inputs.extend(new.inputs);
-                job.inputs = inputs;
-                // Names, labels and materials are this frame's; where the objects are, the
-                // cached geometry's (the stand-in spheres are nowhere).
-                let mut objects = new.objects;
-                for (n, o) in objects.list.iter_mut().zip(&job.objects.list) {
-                    (n.to_world, n.bounds) = (o.to_world, o.bounds);
-                }
-                job.objects = objects;
-            }
+            Some(job) if key == self.key => crate::load::relight(job, cfg, file)?,
             _ => {
                 self.job = Some(crate::load::build(cfg, file)?);
                 self.key = key;

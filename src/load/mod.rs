@@ -17,6 +17,7 @@ pub mod ior;
 mod materials;
 mod objects;
 mod principled;
+mod relight;
 pub mod sensor;
 pub mod spectrum;
 
@@ -24,7 +25,8 @@ pub mod spectrum;
 use crate::io::inputs;
 /// The scene the loader builds (`super::Scene`).
 use crate::scene::Scene;
-pub use build::{build, load, load_str, Job};
+pub use build::{build, load, load_str, Job, MAX_NM};
 pub use geometry::transform;
 pub use objects::{Object, Objects};
+pub use relight::{geometry_key, relight};
 pub use spectrum::{spectrum_ctx, Context as SpectrumContext, Role};
