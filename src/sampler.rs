@@ -67,6 +67,22 @@ impl PixelSampler {
         }
     }
 
+    /// Makes this sampler `new(kind, seed, pixel)`'s equal without rebuilding its scramble
+    /// cache (the packet kernel moves a lane's sampler from pixel to pixel): a group's cached
+    /// scrambles are read only once `seeded` says they were made for this pixel.
+    #[inline]
+    pub fn reset(&mut self, kind: SamplerKind, seed: u64, pixel: u64) {
+        let pixel_seed = hash3(seed, pixel, 0x5eed);
+        self.kind = kind;
+        self.pixel_seed = pixel_seed;
+        self.sample = 0;
+        self.dim = 0;
+        self.rng = Pcg32::new(pixel_seed, 0);
+        self.group = u32::MAX;
+        self.cache = [0.0; 4];
+        self.seeded = 0;
+    }
+
     /// Starts sample `index` of this pixel at dimension 0.
     #[inline]
     pub fn start(&mut self, index: u32) {

@@ -77,7 +77,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
             let pixel = y as u64 * settings.width as u64 + x as u64;
             if lane.pixel != pixel {
-                lane.sampler = PixelSampler::new(settings.sampler, settings.seed, pixel);
+                lane.sampler.reset(settings.sampler, settings.seed, pixel);
                 lane.pixel = pixel;
             }
             let sampler = &mut lane.sampler;
