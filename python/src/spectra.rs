@@ -6,7 +6,7 @@ use crate::arrays::{self, with_lanes};
 use crate::load::{to_json, Scene};
 use crate::SceneError;
 use numpy::{AllowTypeChange, PyArrayLike1, PyArrayMethods, PyUntypedArrayMethods};
-use prism_core::config::spectrum::{Context, Role};
+use prism_core::load::spectrum::{Context, Role};
 use prism_core::config::SpectrumConfig;
 use prism_core::sampler::{PixelSampler, SamplerKind};
 use prism_core::spectrum::{WavelengthSampler, WavelengthSampling};
