@@ -25,6 +25,7 @@ const FLOORS: &[(&str, &[&str])] = &[
         "engine",
         &[
             "interaction",
+            "motion",
             "sampler",
             "filter",
             "texture",

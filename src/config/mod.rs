@@ -16,6 +16,7 @@ pub mod colour_space;
 mod emitter;
 pub mod ior;
 mod material;
+pub mod motion;
 mod parse;
 pub mod sensor;
 mod shape;
@@ -34,6 +35,7 @@ pub use emitter::EmitterConfig;
 pub use ior::{IorConfig, IorForm, MAX_IOR, MIN_IOR};
 pub(crate) use material::unit_scale;
 pub use material::{FloatConfig, FloatTextureConfig, MaterialConfig};
+pub use motion::{AnimationConfig, Interpolation, KeyConfig, ShutterConfig};
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
 pub use shape::{AreaEmitterConfig, ShapeConfig, ShapeKind, TransformOp};
@@ -110,6 +112,12 @@ pub struct CameraConfig {
     pub intrinsics: Option<IntrinsicsConfig>,
     /// OpenCV's `(k1, k2, p1, p2, k3)`, rendered exactly.
     pub distortion: Option<DistortionConfig>,
+    /// Keyframes of `to_world` (`motion::AnimationConfig`), replacing it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub animation: Option<AnimationConfig>,
+    /// When the film records (`motion::ShutterConfig`); default: the instant 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shutter: Option<ShutterConfig>,
 }
 
 impl Default for CameraConfig {
@@ -123,6 +131,8 @@ impl Default for CameraConfig {
             model: CameraModel::Pinhole,
             intrinsics: None,
             distortion: None,
+            animation: None,
+            shutter: None,
         }
     }
 }

@@ -13,6 +13,7 @@ mod geometry;
 pub mod gltf;
 pub mod instancing;
 mod materials;
+pub mod motion;
 mod objects;
 mod principled;
 pub mod sensor;
