@@ -240,6 +240,12 @@ impl Scene {
         fixed || self.moving.as_ref().is_some_and(|m| m.occluded(ray))
     }
 
+    /// The time the scene's camera pose and the sidecar describe: the shutter's opening (0,
+    /// or the instant, for a scene built at an instant).
+    pub fn frame_time(&self) -> f32 {
+        self.timing.as_ref().map_or(0.0, |t| t.shutter.open)
+    }
+
     /// The camera ray through `film` (pixel row `row`): at the instant the scene was built
     /// for, or with an open shutter at a time the sampler draws (`motion::Timing`).
     #[inline(always)]

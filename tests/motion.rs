@@ -234,3 +234,27 @@ fn motion_blur_is_the_average_of_instants() {
     eprintln!("blur vs instants: worst column difference {worst:.3} of its tolerance");
     assert!(moving > w / 2, "only {moving} columns see the cube move");
 }
+
+/// `alpha` retraces the colour pass's own camera rays, times included: behind a moving black
+/// sphere on white, each sample is 0 exactly when it hits, so alpha + value = 1 in every
+/// pixel (to 1e-6, the f32 rounding of two means of 0/1 samples). Rays at another time than
+/// the colour pass's would miss this by whole samples (1/64).
+#[test]
+fn alpha_follows_the_blurred_samples() {
+    let shape = r#"(shape: Sphere(radius: 1), material: "black", animation: (keys: [
+        (time: 0, to_world: [Translate((-2, 0, 0))]), (time: 1, to_world: [Translate((2, 0, 0))])]))"#;
+    let cam = format!("{LOOK}, shutter: (open: 0, close: 1)");
+    let text = scene(32, 12, 64, &cam, shape).replace("shapes:", "aovs: [\"alpha\"], shapes:");
+    let job = prism::load::load_str(&text, Path::new("inline.ron")).unwrap();
+    let r = prism::pipeline::render(&job, 1.0, &|_| {});
+    let v = values(&r.film);
+    let a = r.film.channel("alpha.A").unwrap();
+    let partial = a.iter().filter(|&&x| x > 0.0 && x < 1.0).count();
+    assert!(partial > 20, "only {partial} blurred pixels");
+    for (i, (x, y)) in v.iter().zip(a).enumerate() {
+        assert!(
+            (x + y - 1.0).abs() < 1e-6,
+            "pixel {i}: value {x}, alpha {y}"
+        );
+    }
+}
