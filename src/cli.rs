@@ -78,6 +78,10 @@ pub struct RenderArgs {
     /// Random seed (overrides the scene's sampler.seed).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Render the scene at this instant, in seconds (replaces the camera's shutter with
+    /// open = close = T; animated transforms take their values then).
+    #[arg(long, allow_hyphen_values = true)]
+    pub time: Option<f32>,
     /// Acceleration structure (overrides the scene's `accel`); `embree` needs prism built with
     /// `--features embree`.
     #[arg(long, value_enum)]
@@ -213,6 +217,14 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         .hint("give a number such as --exposure -1.5")
         .into());
     }
+    if let Some(t) = args.time.filter(|t| !t.is_finite()) {
+        return Err(crate::error::InputError::new(
+            &args.scene,
+            format!("--time {t} is not a finite number of seconds"),
+        )
+        .hint("give a time such as --time 0.5")
+        .into());
+    }
     crate::resources::configure(args.max_memory, args.workers.threads);
     output::interrupt::install();
     let out = args
@@ -237,6 +249,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if let Some(seed) = args.seed {
             cfg.sampler.seed = seed;
+        }
+        if let Some(t) = args.time {
+            crate::load::motion::set_time(cfg, t);
         }
         if let Some(accel) = args.accel {
             cfg.accel = accel;

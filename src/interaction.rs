@@ -18,25 +18,33 @@ pub struct SurfaceInteraction {
     pub t: f32,
     pub shape: u32,
     pub prim: u32,
+    /// The time of the ray that found it (`Ray::time`).
+    pub time: f32,
 }
 
 impl SurfaceInteraction {
     /// A ray leaving this point in unit direction `d`.
     #[inline]
     pub fn spawn(&self, d: Vec3) -> Ray {
-        ray::spawn(self.p, self.p_error, self.ng, d)
+        Ray {
+            time: self.time,
+            ..ray::spawn(self.p, self.p_error, self.ng, d)
+        }
     }
 
     /// A shadow ray to `target` (on a surface with normal `target_n`, or a free point).
     #[inline]
     pub fn spawn_to(&self, target: Vec3, target_error: Vec3, target_n: Option<Vec3>) -> Ray {
-        ray::spawn_to(
-            self.p,
-            self.p_error,
-            self.ng,
-            target,
-            target_error,
-            target_n,
-        )
+        Ray {
+            time: self.time,
+            ..ray::spawn_to(
+                self.p,
+                self.p_error,
+                self.ng,
+                target,
+                target_error,
+                target_n,
+            )
+        }
     }
 }

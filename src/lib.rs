@@ -20,6 +20,7 @@ pub mod interaction;
 pub mod io;
 pub mod load;
 pub mod math;
+pub mod motion;
 pub mod output;
 pub mod pipeline;
 pub mod probe;

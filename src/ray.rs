@@ -13,6 +13,9 @@ pub struct Ray {
     pub o: Vec3,
     pub d: Vec3,
     pub t_max: f32,
+    /// When the ray travels, in seconds (0 unless the camera's shutter stays open; rays
+    /// leaving a surface inherit their hit's, `SurfaceInteraction::spawn`).
+    pub time: f32,
 }
 
 /// Shadow rays stop this fraction short of their target, on top of the target's own offset.
@@ -24,6 +27,7 @@ impl Ray {
             o,
             d,
             t_max: f32::INFINITY,
+            time: 0.0,
         }
     }
 
@@ -103,6 +107,7 @@ pub fn spawn_to(
         o,
         d: to / dist,
         t_max: dist * (1.0 - SHADOW_EPSILON),
+        time: 0.0,
     }
 }
 

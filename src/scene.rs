@@ -8,7 +8,22 @@ use crate::camera::Camera;
 use crate::emitter::Emitter;
 use crate::interaction::SurfaceInteraction;
 use crate::ray::Ray;
+use crate::sampler::PixelSampler;
 use crate::shape::Shape;
+
+/// What moves in a scene with an open shutter (`Scene::with_motion`).
+#[derive(Default)]
+pub struct Motions {
+    /// Moving shapes: index into the scene's shapes (object space) and their motion.
+    pub shapes: Vec<(u32, crate::motion::Motion)>,
+    pub timing: Option<SceneTiming>,
+}
+
+/// The shutter's timing and the interval `span` that every row's exposure lies in.
+pub struct SceneTiming {
+    pub timing: crate::motion::Timing,
+    pub span: (f32, f32),
+}
 
 pub struct Scene {
     pub camera: Camera,
@@ -31,6 +46,11 @@ pub struct Scene {
     instances: Option<crate::accel::instances::Instances>,
     /// Triangles of the instances, counted per instance (for `primitive_count`).
     instanced_prims: usize,
+    /// Shapes moving while the shutter is open (`accel::moving`); None in static scenes.
+    moving: Option<crate::accel::moving::Moving>,
+    /// The shutter interval and the camera's motion; None when the scene is rendered at an
+    /// instant (every static scene).
+    pub timing: Option<Box<crate::motion::Timing>>,
 }
 
 impl Scene {
@@ -45,12 +65,39 @@ impl Scene {
         emitters: Vec<Emitter>,
         accel: AccelKind,
     ) -> Scene {
+        let (m, e) = (shape_material, shape_emitter);
+        let none = Motions::default();
+        Scene::with_motion(camera, shapes, m, e, materials, emitters, accel, none)
+    }
+
+    /// As `new`, with shapes that move while the shutter is open (`motions.shapes`: shape
+    /// index and motion; those shapes are in object space) and the shutter's timing.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_motion(
+        camera: Camera,
+        shapes: Vec<Shape>,
+        shape_material: Vec<u32>,
+        shape_emitter: Vec<Option<u32>>,
+        materials: Vec<Material>,
+        emitters: Vec<Emitter>,
+        accel: AccelKind,
+        motions: Motions,
+    ) -> Scene {
+        let mut moving_at: Vec<Option<crate::motion::Motion>> = vec![None; shapes.len()];
+        for (i, m) in motions.shapes {
+            moving_at[i as usize] = Some(m);
+        }
+        let mut moving = Vec::new();
         let mut prim_shape = Vec::new();
         let mut shape_first_prim = Vec::with_capacity(shapes.len());
         let mut prims = Vec::new();
         let mut instanced = Vec::new();
         for (si, shape) in shapes.iter().enumerate() {
             shape_first_prim.push(prim_shape.len() as u32);
+            if let Some(m) = moving_at[si].take() {
+                moving.push((si as u32, shape, m));
+                continue;
+            }
             if let Shape::Instance(inst) = shape {
                 instanced.push((si as u32, inst));
                 continue;
@@ -73,9 +120,17 @@ impl Scene {
             .map(|(i, _)| i as u32)
             .collect();
         let instances = crate::accel::instances::Instances::build(&instanced);
-        let instanced_prims = instanced.iter().map(|(_, i)| i.mesh.indices.len()).sum();
+        let instanced_prims = instanced
+            .iter()
+            .map(|(_, i)| i.mesh.indices.len())
+            .sum::<usize>()
+            + moving.iter().map(|(_, s, _)| s.prim_count()).sum::<usize>();
         drop(instanced);
+        let (t0, t1) = motions.timing.as_ref().map_or((0.0, 0.0), |t| t.span);
+        let moving = crate::accel::moving::Moving::build(moving, t0, t1);
         Scene {
+            moving,
+            timing: motions.timing.map(|t| Box::new(t.timing)),
             instances,
             instanced_prims,
             shape_name: vec![None; shapes.len()],
@@ -95,6 +150,42 @@ impl Scene {
     /// The closest surface along `ray`.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        match &self.moving {
+            None => self.intersect_static(ray),
+            Some(m) => self.intersect_moving(m, ray),
+        }
+    }
+
+    /// The closest static surface, then the moving shapes' up to it at the ray's time. Out of
+    /// line, so static scenes carry none of it.
+    #[inline(never)]
+    fn intersect_moving(
+        &self,
+        m: &crate::accel::moving::Moving,
+        ray: &Ray,
+    ) -> Option<SurfaceInteraction> {
+        let fixed = self.intersect_static(ray);
+        let t_max = fixed.as_ref().map_or(ray.t_max, |si| si.t);
+        let Some(h) = m.intersect(ray, t_max, &self.shapes) else {
+            return fixed;
+        };
+        let s = h.surface;
+        Some(SurfaceInteraction {
+            p: s.p,
+            p_error: s.p_error,
+            ng: s.ng,
+            frame: s.frame,
+            uv: s.uv,
+            t: h.t,
+            shape: h.shape,
+            prim: h.prim,
+            time: ray.time,
+        })
+    }
+
+    /// The closest surface of the shapes that do not move.
+    #[inline(always)]
+    fn intersect_static(&self, ray: &Ray) -> Option<SurfaceInteraction> {
         let (shape, local, h) = match &self.instances {
             None => self.flat_hit(self.accel.intersect(ray)?),
             Some(inst) => self.intersect_two_level(inst, ray)?,
@@ -109,6 +200,7 @@ impl Scene {
             t: h.hit.t,
             shape,
             prim: local,
+            time: ray.time,
         })
     }
 
@@ -141,9 +233,26 @@ impl Scene {
     /// True if something blocks `ray` before its `t_max`.
     #[inline(always)]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        match &self.instances {
+        let fixed = match &self.instances {
             None => self.accel.occluded(ray),
             Some(inst) => self.occluded_two_level(inst, ray),
+        };
+        fixed || self.moving.as_ref().is_some_and(|m| m.occluded(ray))
+    }
+
+    /// The time the scene's camera pose and the sidecar describe: the shutter's opening (0,
+    /// or the instant, for a scene built at an instant).
+    pub fn frame_time(&self) -> f32 {
+        self.timing.as_ref().map_or(0.0, |t| t.shutter.open)
+    }
+
+    /// The camera ray through `film` (pixel row `row`): at the instant the scene was built
+    /// for, or with an open shutter at a time the sampler draws (`motion::Timing`).
+    #[inline(always)]
+    pub fn camera_ray(&self, film: glam::Vec2, row: u32, sampler: &mut PixelSampler) -> Ray {
+        match &self.timing {
+            None => self.camera.ray(film, sampler),
+            Some(t) => t.camera_ray(&self.camera, film, row, sampler),
         }
     }
 
@@ -152,8 +261,17 @@ impl Scene {
         self.accel.occluded(ray) || inst.occluded(ray)
     }
 
-    /// Scene bounds (min, max).
+    /// Scene bounds (min, max), moving shapes' over the shutter interval included.
     pub fn bounds(&self) -> (glam::Vec3, glam::Vec3) {
+        let fixed = self.static_bounds();
+        match &self.moving {
+            None => fixed,
+            Some(m) if self.prim_shape.is_empty() && self.instances.is_none() => m.bounds(),
+            Some(m) => (fixed.0.min(m.bounds().0), fixed.1.max(m.bounds().1)),
+        }
+    }
+
+    fn static_bounds(&self) -> (glam::Vec3, glam::Vec3) {
         match &self.instances {
             None => self.accel.bounds(),
             Some(inst) if self.prim_shape.is_empty() => inst.bounds(),

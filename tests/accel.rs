@@ -94,7 +94,12 @@ fn matches_brute_force(kind: AccelKind, edge_misses: usize) {
             } else {
                 f32::INFINITY
             };
-            let ray = Ray { o, d, t_max };
+            let ray = Ray {
+                o,
+                d,
+                t_max,
+                time: 0.0,
+            };
             let (a, b) = (fast.intersect(&ray), brute.intersect(&ray));
             match (a, b) {
                 (None, None) => {}

@@ -635,6 +635,7 @@ fn normal_maps_tilt_the_shading_normal() {
                     o: Vec3::new(p.x, p.y, 1.0),
                     d: -Vec3::Z,
                     t_max: 10.0,
+                    time: 0.0,
                 };
                 let si = s.intersect(&ray).expect("the quad is hit");
                 let n = si.frame.n;
@@ -831,6 +832,7 @@ fn quad_uv(job: &prism::load::Job, x: f32, y: f32) -> glam::Vec2 {
         o: Vec3::new(x, y, 1.0),
         d: -Vec3::Z,
         t_max: 10.0,
+        time: 0.0,
     };
     job.scene.intersect(&ray).expect("the quad is hit").uv
 }

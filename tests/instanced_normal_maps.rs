@@ -273,6 +273,7 @@ fn instanced_normal_maps_follow_their_node() {
                 o: p + Vec3::Z,
                 d: -Vec3::Z,
                 t_max: 10.0,
+                time: 0.0,
             };
             let si = s
                 .intersect(&ray)

@@ -28,6 +28,7 @@ const FLOORS: &[(&str, &[&str])] = &[
         "engine",
         &[
             "interaction",
+            "motion",
             "sampler",
             "filter",
             "texture",

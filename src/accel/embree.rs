@@ -134,6 +134,7 @@ fn prism_ray<R: SoARay>(rays: &R, i: usize) -> Ray {
         o: rays.org(i).into(),
         d: rays.dir(i).into(),
         t_max: rays.tfar(i),
+        time: 0.0,
     }
 }
 
@@ -261,6 +262,7 @@ fn user_geometry(
                     o: r.org().into(),
                     d: r.dir().into(),
                     t_max: r.tfar,
+                    time: 0.0,
                 };
                 if let Some(h) = geom.intersect_analytic(&ray, r.tfar) {
                     r.tfar = h.t;
@@ -292,6 +294,7 @@ fn user_geometry(
                     o: r.org().into(),
                     d: r.dir().into(),
                     t_max: r.tfar,
+                    time: 0.0,
                 };
                 if geom.intersect_analytic(&ray, r.tfar).is_some() {
                     args.set_occluded(i);

@@ -38,6 +38,7 @@ impl Item {
             o: Vec3::new(r[0].dot(o), r[1].dot(o), r[2].dot(o)),
             d: Vec3::new(r[0].dot(d), r[1].dot(d), r[2].dot(d)),
             t_max,
+            time: ray.time,
         }
     }
 }

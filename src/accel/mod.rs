@@ -10,6 +10,7 @@ mod bvh8;
 #[cfg(feature = "embree")]
 mod embree;
 pub mod instances;
+pub mod moving;
 
 use crate::ray::Ray;
 use crate::shape::{PrimGeom, PrimHit};

@@ -25,6 +25,7 @@ impl Orthographic {
             o: self.to_world.point(Vec3::new(q.x, q.y, self.near_clip)),
             d: world_d / scale,
             t_max: (self.far_clip - self.near_clip) * scale,
+            time: 0.0,
         }
     }
 }

@@ -170,6 +170,7 @@ impl Pinhole {
             o: self.to_world.point(local_o),
             d: world_d / scale,
             t_max: (self.far_clip - self.near_clip) / d.z * scale,
+            time: 0.0,
         }
     }
 

@@ -45,6 +45,7 @@ impl ThinLens {
             o: p.to_world.point(local_o),
             d: world_d / scale,
             t_max: (far - near) / d.z * scale,
+            time: 0.0,
         }
     }
 }

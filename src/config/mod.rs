@@ -16,6 +16,7 @@ mod emitter;
 mod float;
 pub mod ior;
 mod material;
+pub mod motion;
 mod parse;
 pub mod sensor;
 mod shape;
@@ -36,6 +37,7 @@ pub use float::{FloatConfig, FloatTextureConfig};
 pub use ior::{IorConfig, IorForm, MAX_IOR, MIN_IOR};
 pub use material::{Field, MaterialConfig};
 pub(crate) use parse::utf8;
+pub use motion::{AnimationConfig, Interpolation, KeyConfig, ShutterConfig};
 pub use parse::{parse_file, parse_str};
 use serde::{Deserialize, Serialize};
 pub use shape::{AreaEmitterConfig, ShapeConfig, ShapeKind, TransformOp};
@@ -111,6 +113,12 @@ pub struct CameraConfig {
     pub intrinsics: Option<IntrinsicsConfig>,
     /// OpenCV's `(k1, k2, p1, p2, k3)`, rendered exactly.
     pub distortion: Option<DistortionConfig>,
+    /// Keyframes of `to_world` (`motion::AnimationConfig`), replacing it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub animation: Option<AnimationConfig>,
+    /// When the film records (`motion::ShutterConfig`); default: the instant 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shutter: Option<ShutterConfig>,
 }
 
 impl Default for CameraConfig {
@@ -124,6 +132,8 @@ impl Default for CameraConfig {
             model: CameraModel::Pinhole,
             intrinsics: None,
             distortion: None,
+            animation: None,
+            shutter: None,
         }
     }
 }

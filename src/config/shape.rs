@@ -16,6 +16,9 @@ pub struct ShapeConfig {
     pub emitter: Option<AreaEmitterConfig>,
     #[serde(default)]
     pub to_world: Vec<TransformOp>,
+    /// Keyframes of `to_world`, replacing it (`config::motion::AnimationConfig`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation: Option<super::AnimationConfig>,
     /// Turn the surface around: its front (emitting, reflecting) side becomes the other one.
     #[serde(default)]
     pub flip_normals: bool,

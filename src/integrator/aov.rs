@@ -56,7 +56,11 @@ pub fn first_hits(scene: &Scene, width: u32, height: u32) -> Vec<Option<Hit>> {
         .with_min_len(256)
         .map(|i| {
             let (x, y) = ((i % width as usize) as f32, (i / width as usize) as f32);
-            let ray = scene.camera.center_ray(Vec2::new(x + 0.5, y + 0.5));
+            // At the frame's time (the shutter's opening), where the camera stands.
+            let ray = crate::ray::Ray {
+                time: scene.frame_time(),
+                ..scene.camera.center_ray(Vec2::new(x + 0.5, y + 0.5))
+            };
             scene.intersect(&ray).map(|si| Hit {
                 p: si.p,
                 ng: si.ng,
@@ -85,9 +89,8 @@ pub fn coverage(scene: &Scene, settings: &RenderSettings, counts: Option<&[u32]>
             for s in 0..n {
                 sampler.start(s);
                 let offset = settings.filter.sample(sampler.next_2d());
-                let ray = scene
-                    .camera
-                    .ray(Vec2::new(x + 0.5, y + 0.5) + offset, &mut sampler);
+                let film = Vec2::new(x + 0.5, y + 0.5) + offset;
+                let ray = scene.camera_ray(film, y as u32, &mut sampler);
                 hits += scene.intersect(&ray).is_some() as u32;
             }
             (hits as f64 / n as f64) as f32

@@ -256,7 +256,7 @@ impl<const N: usize> Pass<'_, N> {
             let offset = settings.filter.sample(sampler.next_2d());
             let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
             let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
-            let ray = self.scene.camera.ray(film, sampler);
+            let ray = self.scene.camera_ray(film, y, sampler);
             let l = (self.radiance)(
                 self.scene,
                 ray,

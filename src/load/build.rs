@@ -60,8 +60,10 @@ pub fn load_str(text: &str, file: &Path) -> Result<Job, Error> {
 pub const MAX_NM: f32 = 1e5;
 
 /// Builds a job from a parsed config.
-pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
+pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let mut warnings = Vec::new();
+    // Time first: at an instant every animated transform becomes a static one.
+    let plan = super::motion::prepare(&mut cfg, file)?;
 
     // Spectral settings come first: spectra are checked over the render's range.
     let sp = &cfg.spectral;
@@ -226,7 +228,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     };
 
     // The film's memory, before meshes and textures load (again with the BVH below).
-    let mut plan = crate::resources::Plan {
+    let mut memory = crate::resources::Plan {
         width: f.width,
         height: f.height,
         slots: channels.sensor.slots(),
@@ -237,7 +239,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         threads: crate::resources::threads(),
         prims: 0,
     };
-    crate::resources::check(&plan, file)?;
+    crate::resources::check(&memory, file)?;
 
     // Materials (by name, in name order); a default grey diffuse is added if a shape needs one.
     let mut names: Vec<&String> = cfg.materials.keys().collect();
@@ -259,8 +261,30 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let mut gltf_emitters = Vec::new();
     let base = file.parent().unwrap_or(Path::new("."));
     let mut mesh_files = super::instancing::MeshFiles::new(&cfg, base);
+    let mut moving = Vec::new();
     for (i, sc) in cfg.shapes.iter().enumerate() {
         let field = format!("shapes[{i}]");
+        if let Some(m) = plan.as_ref().and_then(|p| p.shapes[i].as_ref()) {
+            let obj = super::motion::object_space(sc, file, &field)?;
+            moving.push((shapes.len() as u32, m.clone()));
+            let shape = geometry::shape(&obj, file, &field, base, &mut warnings)?;
+            super::extent::check_shape(&shape, file, &field)?;
+            let mat = material_index(
+                sc,
+                &field,
+                file,
+                &names,
+                &mut default_material,
+                &mut materials,
+                &mut material_names,
+            )?;
+            shapes.push(shape);
+            shape_material.push(mat);
+            shape_emitter.push(None);
+            shape_name.push(None);
+            shape_source.push(i);
+            continue;
+        }
         if let config::ShapeKind::Gltf { .. } = sc.shape {
             let inst = super::instancing::enabled(&cfg);
             let ex =
@@ -287,34 +311,15 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
                 shape
             }
         };
-        let mat = match &sc.material {
-            Some(name) => match names.iter().position(|n| *n == name) {
-                Some(k) => k as u32,
-                None => {
-                    let list = if names.is_empty() {
-                        "(none defined)".to_string()
-                    } else {
-                        names
-                            .iter()
-                            .map(|n| format!("\"{n}\""))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    };
-                    return Err(
-                        InputError::new(file, format!("unknown material \"{name}\""))
-                            .field(format!("{field}.material"))
-                            .hint(format!("the materials are: {list}")),
-                    );
-                }
-            },
-            None => *default_material.get_or_insert_with(|| {
-                materials.push(Material::Diffuse {
-                    reflectance: SpectralTexture::Uniform(Curve::Constant(0.5)),
-                });
-                material_names.push("(default)".into());
-                (materials.len() - 1) as u32
-            }),
-        };
+        let mat = material_index(
+            sc,
+            &field,
+            file,
+            &names,
+            &mut default_material,
+            &mut materials,
+            &mut material_names,
+        )?;
         let emitter = match &sc.emitter {
             Some(e) => {
                 let f = format!("{field}.emitter.radiance");
@@ -397,9 +402,10 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
          `cargo build --release --features embree` (needs Embree 3, Debian: libembree-dev), \
          or use `accel: Bvh`",
     )?;
-    plan.prims = super::instancing::unique_prims(&shapes);
-    crate::resources::check(&plan, file)?;
-    let mut scene = Scene::new(
+    memory.prims = super::instancing::unique_prims(&shapes);
+    crate::resources::check(&memory, file)?;
+    let motions = super::motion::motions(plan, moving, &cfg, (f.width, f.height), file)?;
+    let mut scene = Scene::with_motion(
         camera,
         shapes,
         shape_material,
@@ -407,6 +413,7 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         materials,
         emitters,
         cfg.accel,
+        motions,
     );
     scene.shape_name = shape_name;
     let aovs = super::objects::aovs(&cfg.aovs, cfg.integrator.caustics.is_some(), file)?;
@@ -420,5 +427,45 @@ pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         inputs: Vec::new(),
         aovs,
         objects,
+    })
+}
+
+/// The index of shape `sc`'s material (a default grey diffuse, added once, if it names none).
+fn material_index(
+    sc: &config::ShapeConfig,
+    field: &str,
+    file: &Path,
+    names: &[&String],
+    default_material: &mut Option<u32>,
+    materials: &mut Vec<Material>,
+    material_names: &mut Vec<String>,
+) -> Result<u32, InputError> {
+    Ok(match &sc.material {
+        Some(name) => match names.iter().position(|n| *n == name) {
+            Some(k) => k as u32,
+            None => {
+                let list = if names.is_empty() {
+                    "(none defined)".to_string()
+                } else {
+                    names
+                        .iter()
+                        .map(|n| format!("\"{n}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                };
+                return Err(
+                    InputError::new(file, format!("unknown material \"{name}\""))
+                        .field(format!("{field}.material"))
+                        .hint(format!("the materials are: {list}")),
+                );
+            }
+        },
+        None => *default_material.get_or_insert_with(|| {
+            materials.push(Material::Diffuse {
+                reflectance: SpectralTexture::Uniform(Curve::Constant(0.5)),
+            });
+            material_names.push("(default)".into());
+            (materials.len() - 1) as u32
+        }),
     })
 }

@@ -15,6 +15,7 @@ pub mod gltf;
 pub mod instancing;
 pub mod ior;
 mod materials;
+pub mod motion;
 mod objects;
 mod principled;
 mod relight;

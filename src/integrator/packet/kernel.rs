@@ -85,7 +85,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             let offset = settings.filter.sample(sampler.next_2d());
             let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
             lane.wl = settings.wavelengths.sample::<N>(sampler.next_1d());
-            lane.ray = scene.camera.ray(film, sampler);
+            lane.ray = scene.camera_ray(film, y, sampler);
             if max_depth == 0 {
                 stream.put(item, Spectrum::zero(), lane.wl);
                 continue;

@@ -226,6 +226,7 @@ pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), Inp
         material: None,
         emitter: None,
         to_world: Vec::new(),
+        animation: None,
         flip_normals: false,
         name: None,
         label: None,
