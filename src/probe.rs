@@ -43,6 +43,7 @@ pub fn probe(
         t: 1.0,
         shape: 0,
         prim: 0,
+        bary: glam::Vec2::ZERO,
     };
     let io = |e: std::io::Error| Error::Other(format!("probe-bsdf: {e}"));
     for (n, line) in input.lines().enumerate() {

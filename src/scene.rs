@@ -9,6 +9,7 @@ use crate::emitter::Emitter;
 use crate::interaction::SurfaceInteraction;
 use crate::ray::Ray;
 use crate::shape::Shape;
+use glam::Vec2;
 
 pub struct Scene {
     pub camera: Camera,
@@ -109,6 +110,7 @@ impl Scene {
             t: h.hit.t,
             shape,
             prim: local,
+            bary: Vec2::new(h.hit.b1, h.hit.b2),
         })
     }
 

@@ -46,6 +46,7 @@ fn hit() -> SurfaceInteraction {
         t: 1.0,
         shape: 0,
         prim: 0,
+        bary: glam::Vec2::ZERO,
     }
 }
 

@@ -370,6 +370,7 @@ fn receiver_facing(p: Vec3, n: Vec3) -> SurfaceInteraction {
         t: 0.0,
         shape: u32::MAX,
         prim: 0,
+        bary: glam::Vec2::ZERO,
     }
 }
 

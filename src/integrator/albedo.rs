@@ -16,11 +16,12 @@ use crate::bsdf::Material;
 use crate::film::Channel;
 use crate::scene::Scene;
 use crate::spectrum::{color, Wavelengths};
-use glam::{Vec2, Vec3};
+use crate::texture::TexPoint;
+use glam::Vec3;
 use rayon::prelude::*;
 
 /// ρ(λ) of `m` at texture coordinates `uv`; `front`: the camera meets the shading normal's side.
-fn rho(m: &Material, uv: Vec2, front: bool, lambda: f32) -> f32 {
+fn rho(m: &Material, uv: TexPoint, front: bool, lambda: f32) -> f32 {
     let wl = Wavelengths::<1> {
         lambda: [lambda],
         pdf: [1.0],
@@ -95,7 +96,7 @@ pub fn layers(scene: &Scene, hits: &[Option<Hit>], sensor: &crate::sensor::Senso
             let mut v = vec![0.0f32; 3 + nb];
             let Some(h) = h else { return v };
             let m = &scene.materials[scene.shape_material[h.shape as usize] as usize];
-            let f = |l: f32| rho(m, h.uv, h.front, l);
+            let f = |l: f32| rho(m, h.tex, h.front, l);
             let mut xyz = [0.0f64; 3];
             for (l, w) in &weights {
                 let r = f(*l) as f64;

@@ -30,6 +30,7 @@ pub fn receiver(p: glam::Vec3) -> prism::interaction::SurfaceInteraction {
         t: 1.0,
         shape: u32::MAX,
         prim: 0,
+        bary: glam::Vec2::ZERO,
     }
 }
 
