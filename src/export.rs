@@ -173,6 +173,9 @@ impl Ctx {
                 json!({"type": "bitmap", "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())), "raw": src.is_some_and(|s| s.raw),
                        "filter": filter_name(g.filter), "wrap": wrap_name(g.wrap), "uv_scale": scale, "uv_offset": offset})
             }
+            // Vertex colours live on prism's meshes only (the exported meshes carry no colour
+            // attribute): the texture under them is exported; scenes/README.md says so.
+            SpectralTexture::Vertex(v) => self.texture(&v.base),
         }
     }
 
@@ -193,6 +196,7 @@ impl Ctx {
                 json!({"type": "bitmap", "filename": src.map(|s| s.path.canonicalize().unwrap_or_else(|_| s.path.clone())), "raw": src.is_some_and(|s| s.raw),
                        "filter": filter_name(g.filter), "wrap": wrap_name(g.wrap), "uv_scale": scale, "uv_offset": offset})
             }
+            FloatTexture::Vertex(v) => self.float_texture(&v.base),
         }
     }
 

@@ -20,6 +20,21 @@ pub struct SurfaceInteraction {
     pub prim: u32,
     /// The time of the ray that found it (`Ray::time`).
     pub time: f32,
+    /// Barycentrics (b1, b2) of the hit in triangle `prim`, in the order the shape intersects
+    /// it (per-vertex data, `TexPoint`); meaningless for spheres and disks.
+    pub bary: Vec2,
+}
+
+/// Texture lookups at a hit read its uv and, for per-vertex colours, its triangle.
+impl From<&SurfaceInteraction> for crate::texture::TexPoint {
+    #[inline(always)]
+    fn from(si: &SurfaceInteraction) -> Self {
+        crate::texture::TexPoint {
+            uv: si.uv,
+            prim: si.prim,
+            bary: si.bary,
+        }
+    }
 }
 
 impl SurfaceInteraction {

@@ -44,6 +44,7 @@ pub fn probe(
         shape: 0,
         prim: 0,
         time: 0.0,
+        bary: glam::Vec2::ZERO,
     };
     let io = |e: std::io::Error| Error::Other(format!("probe-bsdf: {e}"));
     for (n, line) in input.lines().enumerate() {

@@ -10,6 +10,7 @@ use crate::interaction::SurfaceInteraction;
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
 use crate::shape::Shape;
+use glam::Vec2;
 
 /// What moves in a scene with an open shutter (`Scene::with_motion`).
 #[derive(Default)]
@@ -180,6 +181,7 @@ impl Scene {
             shape: h.shape,
             prim: h.prim,
             time: ray.time,
+            bary: h.bary,
         })
     }
 
@@ -201,6 +203,7 @@ impl Scene {
             shape,
             prim: local,
             time: ray.time,
+            bary: Vec2::new(h.hit.b1, h.hit.b2),
         })
     }
 

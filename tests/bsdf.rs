@@ -47,6 +47,7 @@ fn hit() -> SurfaceInteraction {
         shape: 0,
         prim: 0,
         time: 0.0,
+        bary: glam::Vec2::ZERO,
     }
 }
 

@@ -151,3 +151,27 @@ fn raw_factors_past_range_are_refused() {
         &scene(&cam, &camera_sensor(e, &raw("0.1", "UnityIso(315)"))),
     );
 }
+
+/// Camera curves that cannot be fitted to XYZ (three identical curves, a zero curve, a curve
+/// that is a sum of the others): the colour-correction matrix does not exist, and the render
+/// gave NaN camera-corrected channels. Refused naming the curves, with and without white
+/// balance (a zero curve under white balance was already refused, by the white balance).
+#[test]
+fn camera_curves_that_cannot_be_fitted_are_refused() {
+    let cam = format!("fov: 40, to_world: [{LOOK}]");
+    let sensor = |r: &str, g: &str, b: &str| {
+        format!(
+            r#"sensor: (rgb: [Srgb], bands: [], camera: (curves: Curves(r: {r}, g: {g}, b: {b}))),"#
+        )
+    };
+    let gauss = |c: u32| format!("Gaussian(centre: {c}, fwhm: 80)");
+    let (r, g, b) = (gauss(600), gauss(540), gauss(460));
+    for (name, s) in [
+        ("identical", sensor(&g, &g, &g)),
+        ("zero", sensor(&r, "Constant(0)", &b)),
+        ("two_equal", sensor(&r, &r, &b)),
+    ] {
+        refused(name, &scene(&cam, &s), &["sensor.camera.curves"]);
+    }
+    renders("three", &scene(&cam, &sensor(&r, &g, &b)));
+}

@@ -371,6 +371,7 @@ fn receiver_facing(p: Vec3, n: Vec3) -> SurfaceInteraction {
         shape: u32::MAX,
         prim: 0,
         time: 0.0,
+        bary: glam::Vec2::ZERO,
     }
 }
 

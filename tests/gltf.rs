@@ -1219,19 +1219,28 @@ fn wrap_t_and_unread_features() {
         job.warnings
     );
 
-    // COLOR_0 (the normals' accessor read as colours: a valid VEC3 float) and a mirrored
-    // sampler: each named in a warning.
+    // COLOR_0 (the normals' accessor read as colours: a valid VEC3 float) is read now, so
+    // not warned about; COLOR_1 is not read, and a mirrored sampler is read as REPEAT: each
+    // named in a warning.
     let text = std::fs::read_to_string(&file)
         .unwrap()
-        .replace(r#""TEXCOORD_1": 3}"#, r#""TEXCOORD_1": 3, "COLOR_0": 1}"#)
+        .replace(
+            r#""TEXCOORD_1": 3}"#,
+            r#""TEXCOORD_1": 3, "COLOR_0": 1, "COLOR_1": 1}"#,
+        )
         .replace(r#""wrapS": 10497"#, r#""wrapS": 33648"#);
     std::fs::write(&file, text).unwrap();
     let job = prism::load::load(&file, small).unwrap();
     let has = |needle: &str| job.warnings.iter().any(|w| w.contains(needle));
-    assert!(has("COLOR_0") && has("wrapt.gltf"), "{:?}", job.warnings);
+    assert!(
+        !has("COLOR_0") && has("COLOR_1") && has("wrapt.gltf"),
+        "{:?}",
+        job.warnings
+    );
     assert!(has("MIRRORED_REPEAT"), "{:?}", job.warnings);
 
-    // A dispersive glass with a roughness texture: the texture is not read, and says so.
+    // A dispersive glass with a roughness texture honours it: α = (G × roughnessFactor)² per
+    // texel (G = 1, 0.6, 0.4, 0.2 here; factor 0.3).
     let glass = r#"{"pbrMetallicRoughness": {"roughnessFactor": 0.3, "metallicRoughnessTexture": {"index": 0}},
         "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_dispersion": {"dispersion": 0.5}}}"#;
     let file = textured_quad(&dir, "glass", glass, &[img]);
@@ -1241,10 +1250,23 @@ fn wrap_t_and_unread_features() {
     );
     std::fs::write(&file, text).unwrap();
     let job = prism::load::load(&file, small).unwrap();
+    let prism::bsdf::Material::RoughDielectric {
+        alpha_u: prism::texture::FloatTexture::Bitmap(g),
+        alpha_v,
+        ..
+    } = &job.scene.materials[job.scene.shape_material[0] as usize]
+    else {
+        panic!("{:?}", job.scene.materials)
+    };
+    assert_eq!(alpha_v, &prism::texture::FloatTexture::Bitmap(g.clone()));
+    for (t, gv) in g.texels.iter().zip([255.0f32, 153.0, 102.0, 51.0]) {
+        let expect = (gv / 255.0 * 0.3).powi(2);
+        assert!((t - expect).abs() < 1e-6, "{:?}", g.texels);
+    }
     assert!(
         job.warnings
             .iter()
-            .any(|w| w.contains("dispersive") && w.contains("metallicRoughnessTexture")),
+            .all(|w| !w.contains("metallicRoughnessTexture")),
         "{:?}",
         job.warnings
     );

@@ -74,6 +74,7 @@ fn nan_mask_opacity_and_blend_weight_do_not_panic() {
         shape: 0,
         prim: 0,
         time: 0.0,
+        bary: glam::Vec2::ZERO,
     };
     let wl = WavelengthSampler::new(WavelengthSampling::Uniform, 360.0, 830.0).sample::<4>(0.37);
     let wi = Vec3::new(0.3, 0.1, 0.9).normalize();

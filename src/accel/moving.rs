@@ -36,6 +36,8 @@ pub struct MovingHit {
     pub shape: u32,
     pub prim: u32,
     pub t: f32,
+    /// Barycentrics (b1, b2) in triangle `prim` (per-vertex data).
+    pub bary: glam::Vec2,
     pub surface: SurfacePoint,
 }
 
@@ -152,6 +154,7 @@ impl Moving {
             shape,
             prim,
             t: t_max,
+            bary: glam::Vec2::new(hit.b1, hit.b2),
             surface: to_world(s, &l),
         })
     }

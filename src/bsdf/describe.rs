@@ -6,8 +6,7 @@
 use super::microfacet::Distribution;
 use super::{ConductorParams, Material};
 use crate::spectrum::{Curve, RelativeIor, Wavelengths};
-use crate::texture::{FloatTexture, SpectralTexture};
-use glam::Vec2;
+use crate::texture::{FloatTexture, SpectralTexture, TexPoint};
 
 /// One parameter of a material, typed so that a reader can write it out.
 pub enum Param<'a> {
@@ -29,7 +28,7 @@ impl Material {
     /// plastics the base's (before the coating); `principled` base colour × (1 − metallic) ×
     /// (1 − transmission); `twosided` the side met; `blend` (1 − w)·a + w·b; `mask`
     /// opacity·inner; conductors and dielectrics 0.
-    pub fn diffuse_reflectance(&self, uv: Vec2, front: bool, lambda: f32) -> f32 {
+    pub fn diffuse_reflectance(&self, uv: TexPoint, front: bool, lambda: f32) -> f32 {
         let wl = Wavelengths::<1> {
             lambda: [lambda],
             pdf: [1.0],

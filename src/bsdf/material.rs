@@ -217,7 +217,7 @@ impl Material {
             } => Lobe::Dielectric(Dielectric {
                 eta: ior.eta(wl),
                 reflectance: specular_reflectance.eval(si.uv, wl),
-                transmittance: specular_transmittance.eval(si.uv, wl),
+                transmittance: specular_transmittance.eval(si, wl),
                 dispersive: ior.dispersive(),
             }),
             Material::RoughDielectric {
@@ -230,7 +230,7 @@ impl Material {
             } => Lobe::RoughDielectric(RoughDielectric {
                 eta: ior.eta(wl),
                 reflectance: specular_reflectance.eval(si.uv, wl),
-                transmittance: specular_transmittance.eval(si.uv, wl),
+                transmittance: specular_transmittance.eval(si, wl),
                 // Texture values outside [0, 1] are clamped, as for conductors.
                 dist: Microfacet::new(
                     *distribution,
@@ -294,13 +294,13 @@ impl Material {
                 return;
             }
             Material::Mask { inner, opacity } => {
-                let a = unit_weight(opacity.eval(si.uv));
+                let a = unit_weight(opacity.eval(si));
                 inner.add_lobes(si, cos_i, wl, weight * a, flip, out);
                 Lobe::Null.push(weight * (1.0 - a), false, out);
                 return;
             }
             Material::Conductor(p) => Lobe::Conductor(p.at(si.uv, wl)),
-            Material::Principled(p) => Lobe::Principled(p.at(si.uv, wl)),
+            Material::Principled(p) => Lobe::Principled(p.at(si, wl)),
             Material::RoughConductor {
                 params,
                 distribution,

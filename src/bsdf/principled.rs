@@ -28,7 +28,7 @@ use super::microfacet::Microfacet;
 use super::BsdfSample;
 use crate::math::sampling::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
-use crate::texture::{FloatTexture, SpectralTexture};
+use crate::texture::{FloatTexture, SpectralTexture, TexPoint};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
@@ -63,9 +63,15 @@ pub struct SpecularColorTexture {
 }
 
 impl PrincipledParams {
-    /// The BSDF at texture coordinates `uv` and the path's wavelengths.
+    /// The BSDF at texture coordinates `uv` (or a hit, for vertex colours) and the path's
+    /// wavelengths.
     #[inline]
-    pub fn at<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Principled<N> {
+    pub fn at<const N: usize>(
+        &self,
+        at: impl Into<TexPoint>,
+        wl: &Wavelengths<N>,
+    ) -> Principled<N> {
+        let uv: TexPoint = at.into();
         let r = self.roughness.eval(uv).clamp(0.0, 1.0);
         let alpha = r * r;
         let mut sc = self.specular_color.eval(wl);

@@ -59,7 +59,7 @@ pub fn layers(scene: &Scene, hits: &[Option<Hit>], sensor: &crate::sensor::Senso
             let mut v = vec![0.0f32; 3 + nb];
             let Some(h) = h else { return v };
             let m = &scene.materials[scene.shape_material[h.shape as usize] as usize];
-            let f = |l: f32| m.diffuse_reflectance(h.uv, h.front, l);
+            let f = |l: f32| m.diffuse_reflectance(h.tex, h.front, l);
             let mut xyz = [0.0f64; 3];
             for (l, w) in &weights {
                 let r = f(*l) as f64;

@@ -45,6 +45,8 @@ pub struct Hit {
     pub ns: Vec3,
     pub uv: Vec2,
     pub shape: u32,
+    /// Where textures are read (uv, and the triangle for vertex colours).
+    pub tex: crate::texture::TexPoint,
     /// The camera ray meets the side the shading normal points to (`twosided`'s front).
     pub front: bool,
 }
@@ -67,6 +69,7 @@ pub fn first_hits(scene: &Scene, width: u32, height: u32) -> Vec<Option<Hit>> {
                 ns: si.frame.n,
                 uv: si.uv,
                 shape: si.shape,
+                tex: (&si).into(),
                 front: ray.d.dot(si.frame.n) < 0.0,
             })
         })

@@ -94,6 +94,14 @@ pub fn camera(
                 "camera.model.focus_distance",
                 format!("focus_distance {focus_distance} must be > 0: the distance in front of the lens (scene units) that is in focus"),
             )?;
+            // A focus far nearer than the aperture is wide (1e-45 with 0.05) sends rays along
+            // the lens plane: d.z underflows and the rays are NaN (fuzzer, issue 27).
+            check(
+                focus_distance >= 1e-4 * aperture_radius && focus_distance <= 1e18,
+                file,
+                "camera.model.focus_distance",
+                format!("focus_distance {focus_distance} must lie in [1e-4 × aperture_radius, 1e18] (aperture_radius {aperture_radius})"),
+            )?;
             Camera::ThinLens(ThinLens {
                 pinhole: Pinhole::with_intrinsics(to_world, perspective(), near, far),
                 distortion,

@@ -11,7 +11,9 @@ use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
 mod rgb_image;
+mod vertex;
 pub use rgb_image::{load_rgb, srgb_decode, RgbImage, TexelRange};
+pub use vertex::{TexPoint, VertexAlpha, VertexColors};
 
 /// How texture coordinates outside [0, 1) are treated.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -136,23 +138,32 @@ pub enum SpectralTexture {
         map: UvMap,
     },
     Bitmap(Box<Grid<Sigmoid>>),
+    /// A texture times per-vertex colours (glTF `COLOR_0`).
+    Vertex(Box<VertexColors>),
 }
 
 impl SpectralTexture {
-    /// The value at `uv` and the path's wavelengths. A uniform spectrum (most parameters of
-    /// most scenes) is looked up inline; textures go through `eval_varying`, out of line, so a
-    /// scene without textures pays nothing for them.
+    /// The value at `at` (a uv, or a hit's `TexPoint` for per-vertex data) and the path's
+    /// wavelengths. A uniform spectrum (most parameters of most scenes) is looked up inline;
+    /// textures go through `eval_varying`, out of line, so a scene without textures pays
+    /// nothing for them.
     #[inline]
-    pub fn eval<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Spectrum<N> {
+    pub fn eval<const N: usize>(
+        &self,
+        at: impl Into<TexPoint>,
+        wl: &Wavelengths<N>,
+    ) -> Spectrum<N> {
         match self {
             SpectralTexture::Uniform(c) => c.eval(wl),
-            _ => self.eval_varying(uv, wl),
+            _ => self.eval_varying(at.into(), wl),
         }
     }
 
     #[inline(never)]
-    fn eval_varying<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Spectrum<N> {
+    fn eval_varying<const N: usize>(&self, at: TexPoint, wl: &Wavelengths<N>) -> Spectrum<N> {
+        let uv = at.uv;
         match self {
+            SpectralTexture::Vertex(v) => v.eval(at, wl),
             SpectralTexture::Uniform(c) => c.eval(wl),
             SpectralTexture::Checkerboard {
                 color0,
@@ -205,6 +216,7 @@ impl SpectralTexture {
                     .sum();
                 sum / picked.len() as f32
             }
+            SpectralTexture::Vertex(v) => v.mean(lo, hi),
         }
     }
 
@@ -217,6 +229,7 @@ impl SpectralTexture {
             }
             // Bounded sigmoids never exceed 1.
             SpectralTexture::Bitmap(_) => 1.0,
+            SpectralTexture::Vertex(v) => v.base.max_value(lo, hi),
         }
     }
 }
@@ -231,12 +244,18 @@ pub enum FloatTexture {
         map: UvMap,
     },
     Bitmap(Box<Grid<f32>>),
+    /// An opacity times per-vertex alphas (glTF `COLOR_0`'s alpha).
+    Vertex(Box<VertexAlpha>),
 }
 
 impl FloatTexture {
+    /// The value at `at` (a uv, or a hit's `TexPoint` for per-vertex data).
     #[inline]
-    pub fn eval(&self, uv: Vec2) -> f32 {
+    pub fn eval(&self, at: impl Into<TexPoint>) -> f32 {
+        let at = at.into();
+        let uv = at.uv;
         match self {
+            FloatTexture::Vertex(v) => v.eval(at),
             FloatTexture::Constant(v) => *v,
             FloatTexture::Checkerboard {
                 value0,

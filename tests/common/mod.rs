@@ -31,6 +31,7 @@ pub fn receiver(p: glam::Vec3) -> prism::interaction::SurfaceInteraction {
         shape: u32::MAX,
         prim: 0,
         time: 0.0,
+        bary: glam::Vec2::ZERO,
     }
 }
 

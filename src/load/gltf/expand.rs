@@ -152,7 +152,16 @@ pub fn expand(
                 .and_then(|n| by_name.get(n).copied())
         });
         let (material, emission, normal_map) = match over {
-            Some(k) => (MatRef::Scene(k), None, None),
+            Some(k) => {
+                if p.colors.is_some() {
+                    warnings.push(format!(
+                        "{}: {}: the scene's material replaces the glTF material, so its vertex colours (COLOR_0) are not read",
+                        full.display(),
+                        p.name
+                    ));
+                }
+                (MatRef::Scene(k), None, None)
+            }
             None => {
                 let gm = model.doc.meshes().nth(p.source.0).expect("walked mesh");
                 let gm = gm
@@ -160,7 +169,20 @@ pub fn expand(
                     .nth(p.source.1)
                     .expect("walked primitive")
                     .material();
-                let (k, emission, normal_map) = mats.get(&gm, warnings)?;
+                let (k, emission, normal_map) = match &p.colors {
+                    None => mats.get(&gm, warnings)?,
+                    Some(c) => {
+                        // The corners in the order the shape's barycentrics follow: an
+                        // instance's are the file's; a copy's winding is turned by a mirroring
+                        // node and by `flip_normals`.
+                        let swapped = !p.instanced && (p.placement.swap_winding != sc.flip_normals);
+                        let tris: Vec<[u32; 3]> = (p.placement.mesh.indices.iter())
+                            .map(|t| if swapped { [t[0], t[2], t[1]] } else { *t })
+                            .collect();
+                        let corners = super::colors::corners(c, &tris);
+                        mats.tinted(&gm, (p.source, swapped), &corners, c.alpha, warnings)?
+                    }
+                };
                 (MatRef::New(k), emission, normal_map)
             }
         };

@@ -25,8 +25,14 @@ use std::sync::Arc;
 pub struct GltfMaterials<'a> {
     model: &'a Model,
     built: HashMap<Option<usize>, Built>,
+    /// Materials with vertex colours, one per primitive and winding (`tinted`), with their
+    /// glTF material index.
+    tinted: HashMap<TintKey, (Option<usize>, Built)>,
     materials: Vec<Material>,
 }
+
+/// A primitive (mesh, primitive) and whether its shape's winding is the file's reversed.
+pub type TintKey = ((usize, usize), bool);
 
 /// A built material: its index, its emission and its normal map.
 pub type Built = (usize, Option<AreaRadiance>, Option<Arc<Grid<Vec3>>>);
@@ -219,6 +225,7 @@ impl<'a> GltfMaterials<'a> {
         Self {
             model,
             built: HashMap::new(),
+            tinted: HashMap::new(),
             materials: Vec::new(),
         }
     }
@@ -234,10 +241,38 @@ impl<'a> GltfMaterials<'a> {
         if let Some(r) = self.built.get(&index) {
             return Ok(r.clone());
         }
-        let (mat, emission) = self.build(m, warnings)?;
+        let said = self.tinted.values().any(|(i, _)| *i == index);
+        let mut quiet = Vec::new();
+        let warn = if said { &mut quiet } else { warnings };
+        let (mat, emission) = self.build(m, None, warn)?;
         self.materials.push(mat);
         let r = (self.materials.len() - 1, emission, self.normal_map(m));
         self.built.insert(index, r.clone());
+        Ok(r)
+    }
+
+    /// As `get`, for a primitive with vertex colours: each triangle's `corners` (RGBA; `alpha`:
+    /// the file gives A) multiply the base colour and alpha, in a material of its own per `key`.
+    pub fn tinted(
+        &mut self,
+        m: &gltf::Material,
+        key: TintKey,
+        corners: &[[[f32; 4]; 3]],
+        alpha: bool,
+        warnings: &mut Vec<String>,
+    ) -> Result<Built, InputError> {
+        if let Some(r) = self.tinted.get(&key) {
+            return Ok(r.1.clone());
+        }
+        // Warnings about the material itself are given once per glTF material.
+        let said = self.built.contains_key(&m.index())
+            || self.tinted.values().any(|(i, _)| *i == m.index());
+        let mut quiet = Vec::new();
+        let warn = if said { &mut quiet } else { warnings };
+        let (mat, emission) = self.build(m, Some((corners, alpha)), warn)?;
+        self.materials.push(mat);
+        let r = (self.materials.len() - 1, emission, self.normal_map(m));
+        self.tinted.insert(key, (m.index(), r.clone()));
         Ok(r)
     }
 
@@ -245,7 +280,8 @@ impl<'a> GltfMaterials<'a> {
     /// else `materials[i]` of the file, or `(glTF default)`.
     pub fn names(&self) -> Vec<String> {
         let mut names = vec![String::new(); self.materials.len()];
-        for (index, built) in &self.built {
+        let tinted = self.tinted.values().map(|(i, b)| (i, b));
+        for (index, built) in self.built.iter().chain(tinted) {
             names[built.0] = match index {
                 Some(i) => self
                     .model
@@ -300,6 +336,7 @@ impl<'a> GltfMaterials<'a> {
     fn build(
         &self,
         m: &gltf::Material,
+        vertex: Option<(&[[[f32; 4]; 3]], bool)>,
         warn: &mut Vec<String>,
     ) -> Result<(Material, Option<AreaRadiance>), InputError> {
         let label = match (m.index(), m.name()) {
@@ -336,6 +373,10 @@ impl<'a> GltfMaterials<'a> {
             None => SpectralTexture::Uniform(rgb_factor(
                 [bc[0], bc[1], bc[2]].map(|c| c.clamp(0.0, 1.0)),
             )),
+        };
+        let base_color = match vertex {
+            Some((corners, _)) => super::colors::tint(base_color, bc, corners),
+            None => base_color,
         };
         let (metal_f, rough_f) = (pbr.metallic_factor(), pbr.roughness_factor());
         let (metallic, roughness) = match pbr.metallic_roughness_texture() {
@@ -437,19 +478,27 @@ impl<'a> GltfMaterials<'a> {
             warn.push(format!("{}: {label}: KHR_materials_volume is rendered thin-walled (no refraction or attenuation) unless the material has KHR_materials_dispersion", self.model.path.display()));
         }
         let dispersive = dispersion > 0.0 && transmission_f > 0.0;
-        super::unread::material(self.model, m, &label, dispersive, warn);
+        super::unread::material(self.model, m, &label, warn);
         let mut mat = if dispersive {
             // A dispersive glass: prism's dielectric with a Cauchy index of the same Abbe
             // number; base colour tints the transmission.
             let rel = RelativeIor::new(dispersion_abbe(ior, dispersion), Ior::Constant(1.0));
             let r = rough_f * rough_f;
             let tint = base_color.clone();
-            if r > 1e-3 {
+            // A roughness texture is honoured: α = (G × roughnessFactor)² per texel.
+            let alpha = match &roughness {
+                FloatTexture::Bitmap(g) => FloatTexture::Bitmap(Box::new(Grid {
+                    texels: g.texels.iter().map(|v| v.clamp(0.0, 1.0).powi(2)).collect(),
+                    ..Grid::clone(g)
+                })),
+                _ => FloatTexture::Constant(r),
+            };
+            if r > 1e-3 || matches!(alpha, FloatTexture::Bitmap(_)) {
                 Material::RoughDielectric {
                     ior: rel,
                     distribution: Distribution::Ggx,
-                    alpha_u: FloatTexture::Constant(r),
-                    alpha_v: FloatTexture::Constant(r),
+                    alpha_u: alpha.clone(),
+                    alpha_v: alpha,
                     specular_reflectance: SpectralTexture::Uniform(Curve::Constant(1.0)),
                     specular_transmittance: tint,
                 }
@@ -474,8 +523,17 @@ impl<'a> GltfMaterials<'a> {
             }))
         };
         use gltf::material::AlphaMode;
+        let vertex_alpha = vertex.filter(|v| v.1).map(|v| v.0);
         let opacity = match (m.alpha_mode(), alpha_tex) {
             (AlphaMode::Opaque, _) => None,
+            // Vertex alpha × texel alpha × factor, cut after the product for MASK.
+            (mode, tex) if vertex_alpha.is_some() => {
+                let base = tex.map_or(FloatTexture::Constant(bc[3].clamp(0.0, 1.0)), |g| {
+                    FloatTexture::Bitmap(Box::new(g))
+                });
+                let cut = (mode == AlphaMode::Mask).then(|| m.alpha_cutoff().unwrap_or(0.5));
+                vertex_alpha.map(|c| super::colors::alpha(base, cut, c))
+            }
             (AlphaMode::Mask, tex) => {
                 let cut = m.alpha_cutoff().unwrap_or(0.5);
                 Some(match tex {

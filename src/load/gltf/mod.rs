@@ -10,6 +10,7 @@
 
 mod accessors;
 mod checks;
+mod colors;
 mod emission;
 mod expand;
 mod lights;

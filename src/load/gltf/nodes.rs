@@ -23,6 +23,8 @@ pub struct Primitive {
     /// Per-vertex tangents (xyz, w = bitangent sign) in mesh space, if the file has them;
     /// shared by every use of the primitive.
     pub tangents: Arc<Vec<[f32; 4]>>,
+    /// Its vertex colours (`COLOR_0`), shared by every use.
+    pub colors: Option<Arc<super::colors::Colors>>,
     /// The primitive's mesh in mesh space, shared by all its uses, and its placement
     /// (`swap_winding`: the node mirrors).
     pub placement: Instance,
@@ -43,8 +45,12 @@ pub struct Walk {
     pub mesh_instances: usize,
 }
 
-/// A local mesh read once per (mesh, primitive), with its tangents.
-type LocalMesh = (Arc<Mesh>, Arc<Vec<[f32; 4]>>);
+/// A local mesh read once per (mesh, primitive), with its tangents and vertex colours.
+type LocalMesh = (
+    Arc<Mesh>,
+    Arc<Vec<[f32; 4]>>,
+    Option<Arc<super::colors::Colors>>,
+);
 
 /// Walks the default scene (or the first, if the file names none) under `to_world`, every
 /// primitive copied into world space.
@@ -139,7 +145,7 @@ pub fn walk_with(
                 if let std::collections::hash_map::Entry::Vacant(e) = cache.entry(key) {
                     e.insert(read_primitive(model, &prim, mesh.index(), warnings)?);
                 }
-                let Some((local_mesh, tangents)) = &cache[&key] else {
+                let Some((local_mesh, tangents, colors)) = &cache[&key] else {
                     continue;
                 };
                 let material = prim.material();
@@ -167,6 +173,7 @@ pub fn walk_with(
                         source: key,
                         name: name.clone(),
                         tangents: tangents.clone(),
+                        colors: colors.clone(),
                         placement,
                         instanced: true,
                     });
@@ -187,6 +194,7 @@ pub fn walk_with(
                     source: key,
                     name: name.clone(),
                     tangents: tangents.clone(),
+                    colors: colors.clone(),
                     placement,
                     instanced: false,
                 });
@@ -279,5 +287,10 @@ fn read_primitive(
             .field(&field)
             .hint("the accessors of this primitive disagree; re-export the model")
     })?;
-    Ok(Some((Arc::new(mesh), Arc::new(tangents))))
+    let colors = super::colors::read(model, prim, &field, mesh.positions.len())?;
+    Ok(Some((
+        Arc::new(mesh),
+        Arc::new(tangents),
+        colors.map(Arc::new),
+    )))
 }

@@ -1,28 +1,27 @@
 //! What prism does not read from a glTF file, said at load rather than rendered silently
-//! wrong: vertex colours (COLOR_0), MIRRORED_REPEAT samplers (read as REPEAT) and a
-//! dispersive glass's roughness texture (the glass takes roughnessFactor alone).
+//! wrong: vertex colour sets past COLOR_0, MIRRORED_REPEAT samplers (read as REPEAT).
 //! scenes/README.md ("glTF") lists the same.
 
 use super::Model;
 
-/// A warning for a primitive with vertex colours.
+/// A warning for each vertex colour set past COLOR_0 (COLOR_1, …), which no material reads.
 pub fn primitive(model: &Model, prim: &gltf::Primitive, field: &str, warn: &mut Vec<String>) {
-    if prim.get(&gltf::Semantic::Colors(0)).is_some() {
-        warn.push(format!(
-            "{}: {field}.attributes.COLOR_0: vertex colours are not read; the base colour renders without them",
-            model.path.display()
-        ));
+    for (sem, _) in prim.attributes() {
+        if let gltf::Semantic::Colors(k) = sem {
+            let w = format!(
+                "{}: {field}.attributes.COLOR_{k}: a vertex colour set after the first, which no material reads",
+                model.path.display()
+            );
+            // The file is walked more than once (camera, shapes): say it once.
+            if k > 0 && !warn.contains(&w) {
+                warn.push(w);
+            }
+        }
     }
 }
 
 /// Warnings for the parts of material `m` (called `label`) that prism does not read.
-pub fn material(
-    model: &Model,
-    m: &gltf::Material,
-    label: &str,
-    dispersive: bool,
-    warn: &mut Vec<String>,
-) {
+pub fn material(model: &Model, m: &gltf::Material, label: &str, warn: &mut Vec<String>) {
     let path = model.path.display();
     let pbr = m.pbr_metallic_roughness();
     let mut textures: Vec<gltf::Texture> = [
@@ -49,11 +48,6 @@ pub fn material(
     }) {
         warn.push(format!(
             "{path}: {label}: a texture's sampler uses MIRRORED_REPEAT, read as REPEAT"
-        ));
-    }
-    if dispersive && pbr.metallic_roughness_texture().is_some() {
-        warn.push(format!(
-            "{path}: {label}: the dispersive glass takes roughnessFactor alone; its metallicRoughnessTexture is not read"
         ));
     }
 }

@@ -74,6 +74,20 @@ pub(super) fn camera_model(
         &d65,
         observer.cmf(),
     );
+    // Identical, zero or dependent curves leave the least-squares fit singular: its matrix is
+    // NaN or enormous, and every corrected channel would be NaN (found only after rendering).
+    let worst = fit
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |w, v| w.max(v.abs()));
+    if !fit.is_finite() || worst > 1e6 {
+        return Err(at
+            .err(
+                "camera.curves",
+                format!("the three curves cannot be fitted to XYZ (the colour matrix is not finite or has an entry of {worst:e}): they are zero, equal or one is a mix of the others"),
+            )
+            .hint("give three different channel responses (r, g, b) that respond within the spectral range"));
+    }
     let exposure = match cam.exposure {
         None => 1.0,
         Some(e) => {
