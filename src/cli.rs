@@ -204,7 +204,10 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     }
     let pool = worker_pool(args.workers.threads, &args.scene)?;
     if let Err(why) = args.simd.check() {
-        return Err(crate::error::InputError::new(&args.scene, why).into());
+        return Err(crate::error::InputError::new(&args.scene, why)
+            .field("--simd")
+            .hint("--simd auto picks the widest this CPU runs")
+            .into());
     }
     if !args.exposure.is_finite() {
         return Err(crate::error::InputError::new(

@@ -7,8 +7,9 @@
 
 use std::path::{Path, PathBuf};
 
-/// Hintless `InputError::new(` statements counted on this tree (2026-12-03).
-const CEILING: usize = 31;
+/// Hintless `InputError::new(` statements counted on this tree (2026-12-03, after the merge;
+/// a `;` inside a message no longer ends the statement).
+const CEILING: usize = 26;
 
 fn rust_files(d: &Path, out: &mut Vec<PathBuf>) {
     for e in std::fs::read_dir(d).unwrap().flatten() {
@@ -19,6 +20,22 @@ fn rust_files(d: &Path, out: &mut Vec<PathBuf>) {
             out.push(p);
         }
     }
+}
+
+/// Where the statement starting `rest` ends: its first `;` outside a string literal (messages
+/// often hold a `;`).
+fn statement_end(rest: &str) -> usize {
+    let (mut in_str, mut escaped) = (false, false);
+    for (i, c) in rest.char_indices() {
+        match c {
+            _ if escaped => escaped = false,
+            '\\' if in_str => escaped = true,
+            '"' => in_str = !in_str,
+            ';' if !in_str => return i,
+            _ => {}
+        }
+    }
+    rest.len()
 }
 
 /// (file:line, first line) of each hintless constructor, tests modules left out.
@@ -36,7 +53,7 @@ fn hintless() -> Vec<(String, String)> {
         };
         for (i, _) in text.match_indices("InputError::new(") {
             let rest = &text[i..];
-            let end = rest.find(';').unwrap_or(rest.len());
+            let end = statement_end(rest);
             if !rest[..end].contains(".hint(") {
                 let line = text[..i].matches('\n').count() + 1;
                 let first = rest.lines().next().unwrap_or("").trim().to_string();

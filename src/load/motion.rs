@@ -247,7 +247,8 @@ fn camera_poses(m: &Motion, file: &Path) -> Result<(), InputError> {
                     "this key's to_world is not a rotation, translation and uniform scale: {why}"
                 ),
             )
-            .field(format!("camera.animation.keys[{k}].to_world")));
+            .field(format!("camera.animation.keys[{k}].to_world"))
+            .hint("write each camera key as a rotation and a translation (a uniform scale at most), without shear or mirroring"));
         }
     }
     Ok(())
