@@ -115,14 +115,7 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool, const CAUSTICS: bool>(
                     if matches!((caustics, chain), (Some(c), Some(1..)) if c.takes(e, ray.d)) {
                         continue;
                     }
-                    let em = &scene.emitters[e as usize];
-                    let le = em.le_env(ray.d, wl);
-                    let w = if path.prev_delta {
-                        1.0
-                    } else {
-                        power_heuristic(path.prev_pdf, path.select_pdf * em.pdf_li_env(ray.d))
-                    };
-                    path.l += path.beta * le * (w * path.lane_w);
+                    path.add_environment(&scene.emitters[e as usize], ray.d, wl);
                 }
             }
             break;
@@ -130,25 +123,7 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool, const CAUSTICS: bool>(
         if let Some(e) = scene.shape_emitter[si.shape as usize]
             .filter(|&e| !matches!((caustics, chain), (Some(c), Some(1..)) if c.takes(e, ray.d)))
         {
-            let em = &scene.emitters[e as usize];
-            // Area lights emit from their front side only.
-            let le = match em {
-                Emitter::Area(a) if show && si.ng.dot(-ray.d) > 0.0 => {
-                    path.le_memo.get(e, a, si.uv, wl)
-                }
-                _ => Spectrum::zero(),
-            };
-            if !le.is_zero() {
-                let w = if path.prev_delta {
-                    1.0
-                } else {
-                    power_heuristic(
-                        path.prev_pdf,
-                        path.select_pdf * em.pdf_li_hit(path.prev_p, &si, &scene.shapes),
-                    )
-                };
-                path.l += path.beta * le * (w * path.lane_w);
-            }
+            path.add_hit_emission(scene, e, &si, ray.d, wl, show);
         }
         if depth >= max_depth {
             break;
@@ -269,6 +244,50 @@ impl<const N: usize> LeMemo<N> {
 }
 
 impl<const N: usize> Path<N> {
+    /// Adds environment emitter `em`'s radiance along `d` (a ray that left the scene),
+    /// MIS-weighted against the BSDF sampling that chose `d`.
+    #[inline(always)]
+    pub(super) fn add_environment(&mut self, em: &Emitter, d: Vec3, wl: &Wavelengths<N>) {
+        let le = em.le_env(d, wl);
+        let w = if self.prev_delta {
+            1.0
+        } else {
+            power_heuristic(self.prev_pdf, self.select_pdf * em.pdf_li_env(d))
+        };
+        self.l += self.beta * le * (w * self.lane_w);
+    }
+
+    /// Adds the radiance of emitter `e` at hit `si`, seen along `d` (area lights emit from
+    /// their front side only; `show`: emitters seen from the camera count), MIS-weighted
+    /// against the BSDF sampling that found it.
+    #[inline(always)]
+    pub(super) fn add_hit_emission(
+        &mut self,
+        scene: &Scene,
+        e: u32,
+        si: &SurfaceInteraction,
+        d: Vec3,
+        wl: &Wavelengths<N>,
+        show: bool,
+    ) {
+        let em = &scene.emitters[e as usize];
+        let le = match em {
+            Emitter::Area(a) if show && si.ng.dot(-d) > 0.0 => self.le_memo.get(e, a, si.uv, wl),
+            _ => Spectrum::zero(),
+        };
+        if !le.is_zero() {
+            let w = if self.prev_delta {
+                1.0
+            } else {
+                power_heuristic(
+                    self.prev_pdf,
+                    self.select_pdf * em.pdf_li_hit(self.prev_p, si, &scene.shapes),
+                )
+            };
+            self.l += self.beta * le * (w * self.lane_w);
+        }
+    }
+
     /// A path whose camera ray leaves `o`, in a scene of `n_emitters` emitters.
     #[inline(always)]
     pub(super) fn start(o: Vec3, n_emitters: usize, dispersion: Dispersion) -> Self {

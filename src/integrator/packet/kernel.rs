@@ -6,11 +6,9 @@
 use super::stream::{Item, Stream};
 use super::TileArgs;
 use crate::bsdf::Bsdf;
-use crate::emitter::Emitter;
 use crate::integrator::path::{Dispersion, Path};
 use crate::integrator::{TileCounts, TileOut, TILE};
 use crate::interaction::SurfaceInteraction;
-use crate::math::sampling::power_heuristic;
 use crate::ray::Ray;
 use crate::sampler::{PixelSampler, BOUNCE_DIMS, CAMERA_DIMS};
 use crate::spectrum::{Spectrum, Wavelengths};
@@ -117,14 +115,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             let Some(si) = hit else {
                 if show {
                     for &e in &scene.environment {
-                        let em = &scene.emitters[e as usize];
-                        let le = em.le_env(ray.d, wl);
-                        let w = if path.prev_delta {
-                            1.0
-                        } else {
-                            power_heuristic(path.prev_pdf, path.select_pdf * em.pdf_li_env(ray.d))
-                        };
-                        path.l += path.beta * le * (w * path.lane_w);
+                        path.add_environment(&scene.emitters[e as usize], ray.d, wl);
                     }
                 }
                 stream.put(item, path.l, *wl);
@@ -132,25 +123,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
                 continue;
             };
             if let Some(e) = scene.shape_emitter[si.shape as usize] {
-                let em = &scene.emitters[e as usize];
-                // Area lights emit from their front side only.
-                let le = match em {
-                    Emitter::Area(a) if show && si.ng.dot(-ray.d) > 0.0 => {
-                        path.le_memo.get(e, a, si.uv, wl)
-                    }
-                    _ => Spectrum::zero(),
-                };
-                if !le.is_zero() {
-                    let w = if path.prev_delta {
-                        1.0
-                    } else {
-                        power_heuristic(
-                            path.prev_pdf,
-                            path.select_pdf * em.pdf_li_hit(path.prev_p, si, &scene.shapes),
-                        )
-                    };
-                    path.l += path.beta * le * (w * path.lane_w);
-                }
+                path.add_hit_emission(scene, e, si, ray.d, wl, show);
             }
             if lane.depth >= max_depth {
                 stream.put(item, path.l, *wl);
