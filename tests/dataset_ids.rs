@@ -57,6 +57,25 @@ fn check_against_exports(dir: &Path, cfg: &Path, out: &Path, n: u32) {
         for key in ["labels", "materials", "objects"] {
             assert_eq!(frame[key], fresh[key], "frame {i}: `{key}` differs");
         }
+        // Every key of the EXR header but the two that differ by design: `prism:scene` (the
+        // frame names its base scene, the render its exported copy) and `prism:renderSeconds`
+        // (a frame's files must not depend on the clock).
+        let (mut hw, mut hg) = (exr_header(&stem.with_extension("exr")), exr_header(&exr));
+        assert_eq!(hw["prism:renderSeconds"], "see manifest.jsonl", "frame {i}");
+        assert_eq!(hw["prism:scene"], "base.ron", "frame {i}");
+        for k in ["prism:scene", "prism:renderSeconds"] {
+            hw.remove(k);
+            hg.remove(k);
+        }
+        assert_eq!(
+            hw.keys().collect::<Vec<_>>(),
+            hg.keys().collect::<Vec<_>>(),
+            "frame {i}: header keys"
+        );
+        assert!(hw.len() > 20, "frame {i}: only {} header keys", hw.len());
+        for (k, v) in &hw {
+            assert_eq!(v, &hg[k], "frame {i}: header `{k}` differs");
+        }
         let (want, got) = (exr_pixels(&stem.with_extension("exr")), exr_pixels(&exr));
         assert_eq!(
             want.keys().collect::<Vec<_>>(),
@@ -312,9 +331,31 @@ fn outputs_aovs_and_splits_are_the_datasets() {
     }
 }
 
+/// The id dataset (subsets, swaps, placement, two sensors, the id AOVs) killed: once between a
+/// frame's renames and its manifest line (seeded frame), then twice by SIGKILL at seeded
+/// moments; every listed frame stays the uninterrupted run's, and the resumed folder is
+/// byte-identical to it (the long form, 40 frames and 10 kills, is `forty_frames_match_their_exports`).
+#[test]
+fn the_id_dataset_killed_at_random_moments_resumes_byte_identical() {
+    let dir = workdir("ids-kill");
+    std::fs::write(dir.join("base.ron"), labelled_tabletop()).unwrap();
+    let cfg = config_on_base(&dir, two_sensors);
+    let t = std::time::Instant::now();
+    ok(&dataset(&cfg, &dir.join("full"), &[]));
+    let whole = t.elapsed().as_secs_f64();
+    let full = frames(&dir.join("full"));
+    let mut rng = 29u64;
+    let abort_at = (lcg(&mut rng) * 8.0) as u32;
+    kill_and_resume(&cfg, &dir.join("out"), &full, abort_at, 2, 0.6 * whole, rng);
+}
+
 /// The long form (a benchmark: `cargo test --release --test dataset_ids -- --ignored`): 40
 /// frames with subsets, swaps, placement, two sensors and the id AOVs, every one checked
-/// against an independent `prism render` of its exported scene as above.
+/// against an independent `prism render` of its exported scene as above (pixels, ids, JSON
+/// tables, every EXR header key); the run killed between a seeded frame's renames and its
+/// manifest line and then `PRISM_KILLS` times (default 10) by SIGKILL at seeded moments, resumed
+/// byte-identical; and the run started inside the config's folder with a bare config name
+/// byte-identical to the one started elsewhere with absolute paths.
 #[test]
 #[ignore]
 fn forty_frames_match_their_exports() {
@@ -325,6 +366,49 @@ fn forty_frames_match_their_exports() {
         two_sensors(t).replace("frames: 8,", "frames: 40,")
     });
     let out = dir.join("out");
+    let t = std::time::Instant::now();
     ok(&dataset(&cfg, &out, &[]));
+    let whole = t.elapsed().as_secs_f64();
     check_against_exports(&dir, &cfg, &out, 40);
+    let full = frames(&out);
+    let kills: u32 = std::env::var("PRISM_KILLS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(10);
+    let mut rng = 40u64;
+    let abort_at = (lcg(&mut rng) * 40.0) as u32;
+    kill_and_resume(
+        &cfg,
+        &dir.join("killed"),
+        &full,
+        abort_at,
+        kills,
+        whole,
+        rng,
+    );
+    // From inside the config's folder, by its bare name, with a relative output folder.
+    let text = std::fs::read_to_string(&cfg)
+        .unwrap()
+        .replace(&format!("{:?}", dir.join("base.ron")), "\"base.ron\"");
+    let bare = dir.join("bare");
+    std::fs::create_dir_all(&bare).unwrap();
+    std::fs::copy(dir.join("base.ron"), bare.join("base.ron")).unwrap();
+    std::fs::write(bare.join("dataset.ron"), text).unwrap();
+    let o = prism()
+        .current_dir(&bare)
+        .args(["dataset", "dataset.ron", "-o", "here", "--quiet"])
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("SLURM_ARRAY_TASK_COUNT")
+        .env_remove("JOB_COMPLETION_INDEX")
+        .output()
+        .unwrap();
+    ok(&o);
+    let here = frames(&bare.join("here"));
+    assert_eq!(here.len(), full.len());
+    for (name, bytes) in &here {
+        assert!(
+            full[name] == *bytes,
+            "{name} depends on the working directory"
+        );
+    }
 }

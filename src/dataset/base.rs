@@ -37,6 +37,14 @@ pub struct Base {
     /// What `prism render` would warn about in the base scene and in each variation's envmap
     /// and sensor files (spectra ending inside the render range, ...), each once.
     pub warnings: Vec<String>,
+    /// Each light variation's `illuminant_files`, read and scaled (src/dataset/illuminant_files.rs).
+    pub illuminant_files: Vec<Vec<super::illuminant_files::IlluminantFile>>,
+    /// The layers the contact sheet shows (`outputs.sheet_layers`, checked).
+    pub sheet_layers: Vec<crate::film::Aov>,
+    /// Each texture variation's image files (src/dataset/textures.rs).
+    pub textures: super::textures::Listed,
+    /// The asset folder's meshes, the last shapes of `scene` (src/dataset/asset_folder.rs).
+    pub assets: Vec<super::asset_folder::Asset>,
 }
 
 /// Where a light variation points.
@@ -72,9 +80,11 @@ impl Base {
                     .into());
             }
         }
+        let assets = super::asset_folder::list(&config, file)?;
         // The files the load reads (meshes, textures, spectra, the envmap), for `dataset.json`.
         let (loaded, read) = crate::io::inputs::collect(|| -> Result<_, Error> {
             let mut scene = crate::config::parse_file(&scene_file)?;
+            super::asset_folder::append(&assets, config.objects.assets.as_ref(), &mut scene);
             if let Some(a) = &config.outputs.aovs {
                 scene.aovs = a.clone();
             }
@@ -89,8 +99,11 @@ impl Base {
             let job = crate::load::build(scene.clone(), &scene_file)?;
             Ok((scene, job))
         });
-        let (scene, mut job) = loaded?;
-        let bounds = job.scene.shapes.iter().map(shape_bounds).collect();
+        let (mut scene, mut job) = loaded?;
+        let mut bounds: Vec<_> = job.scene.shapes.iter().map(shape_bounds).collect();
+        if let Some(a) = &config.objects.assets {
+            super::asset_folder::normalise(&assets, a.size, &mut scene, &mut bounds);
+        }
         let mut ids = vec![None; scene.shapes.len()];
         for o in job.objects.list.iter().rev() {
             ids[o.shape] = Some(o.instance_id);
@@ -123,7 +136,8 @@ impl Base {
             .iter()
             .flat_map(|e| &e.files)
             .chain(config.sensor.iter().flat_map(|s| s.files.iter().flatten()));
-        for f in variation_files {
+        let classes = config.objects.assets.iter().map(|a| &a.classes);
+        for f in variation_files.chain(classes) {
             let p = dir.join(f);
             if !inputs.contains(&p) {
                 inputs.push(p);
@@ -142,14 +156,26 @@ impl Base {
             labels: objects.labels.clone(),
             objects,
             warnings: Vec::new(),
+            illuminant_files: Vec::new(),
+            sheet_layers: Vec::new(),
+            textures: Vec::new(),
+            assets,
         };
         base.warnings = base
             .built
             .as_ref()
             .map_or(Vec::new(), |j| j.warnings.clone());
         base.check()?;
+        base.illuminant_files = super::illuminant_files::load(&base)?;
+        super::intrinsics::check(&base)?;
+        base.textures = super::textures::load(&base)?;
+        let o = &base.config.outputs;
+        base.sheet_layers =
+            super::sheet_layers::check(&base.file, &o.sheet_layers, &base.scene.aovs, o.preview)?;
         base.envmap_warnings()?;
-        for p in base.sensor_inputs()? {
+        let mut lit = super::illuminant_files::paths(&base);
+        lit.extend(super::textures::paths(&base.textures));
+        for p in base.sensor_inputs()?.into_iter().chain(lit) {
             if !base.inputs.contains(&p) {
                 base.inputs.push(p);
             }
@@ -157,7 +183,7 @@ impl Base {
         Ok(base)
     }
 
-    fn err(&self, field: &str, message: impl Into<String>) -> InputError {
+    pub(crate) fn err(&self, field: &str, message: impl Into<String>) -> InputError {
         InputError::new(&self.file, message).field(field)
     }
 

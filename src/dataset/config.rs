@@ -55,6 +55,9 @@ pub struct DatasetConfig {
     /// A named shape's material chosen from a list.
     #[serde(default)]
     pub swaps: Vec<MaterialSwap>,
+    /// A material's base reflectance as a bitmap drawn from a folder of images.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub textures: Vec<TextureVariation>,
     #[serde(default)]
     pub objects: ObjectVariation,
     /// The sensor chosen from a list, and an exposure in stops.
@@ -105,6 +108,11 @@ pub struct FrameOutputs {
     /// main sensor's channels (src/sensor/multi.rs).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensors: Option<Vec<crate::config::sensor::NamedSensor>>,
+    /// Layers the contact sheet shows beside each frame's preview, in false colour:
+    /// `sheet_layers: ["depth", "normal", "label"]` (src/dataset/sheet_layers.rs). Every tile
+    /// carries its frame number.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sheet_layers: Vec<String>,
 }
 
 /// A closed range `(lo, hi)` sampled uniformly; `lo == hi` is a constant.
@@ -134,6 +142,36 @@ pub struct CameraVariation {
     /// Default 100.
     #[serde(default = "hundred")]
     pub max_attempts: u32,
+    /// OpenCV's K drawn per frame (replaces `fov`; src/dataset/intrinsics.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub intrinsics: Option<IntrinsicsRange>,
+    /// OpenCV's distortion coefficients drawn per frame (src/dataset/intrinsics.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distortion: Option<DistortionRange>,
+}
+
+/// `intrinsics: (fx: (450, 550), fy: (450, 550), cx: (62, 66), cy: (46, 50))`: pixels, OpenCV's
+/// convention (pixel centres at integers); `fy` left out: fy = fx (square pixels).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntrinsicsRange {
+    pub fx: Range,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fy: Option<Range>,
+    pub cx: Range,
+    pub cy: Range,
+}
+
+/// `distortion: (k1: (-0.2, 0), k2: (0, 0.05))`: OpenCV's coefficients, each a range (default
+/// (0, 0)); every corner of the ranges' box must map the frame one-to-one.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DistortionRange {
+    pub k1: Range,
+    pub k2: Range,
+    pub p1: Range,
+    pub p2: Range,
+    pub k3: Range,
 }
 
 fn y_up() -> [f32; 3] {
@@ -173,8 +211,11 @@ pub struct Pose {
 /// the light's spectrum; with `temperature` (K) the spectrum becomes a blackbody of unit
 /// luminance (like `Named("D65")`) times `intensity`; with `illuminants: ["D65", "F2",
 /// "LED-B1"]` (CIE names, as `Named` takes) it becomes one of them, drawn uniformly per frame,
-/// times `intensity` (each is of unit luminance). `temperature` and `illuminants` exclude each
-/// other.
+/// times `intensity` (each is of unit luminance). `illuminant_files: ["spd/led_4000k.csv"]`
+/// (relative to the dataset config; a spectrum table as `File(path: ..)` in a scene reads,
+/// its first column, covering the scene's spectral range) are drawn beside the named ones,
+/// uniformly over both lists, each scaled to unit luminance (src/dataset/illuminant_files.rs).
+/// `temperature` excludes `illuminants` and `illuminant_files`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LightVariation {
@@ -185,6 +226,8 @@ pub struct LightVariation {
     pub temperature: Option<Range>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub illuminants: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub illuminant_files: Vec<String>,
 }
 
 /// `envmap: (target: "emitters[0]", files: ["sky1.exr", "sky2.exr"], rotate: true)`: the
@@ -231,6 +274,16 @@ pub enum ReflectanceSource {
     Patches(String, Vec<String>),
 }
 
+/// `(target: "paint", folder: "textures/wood")`: the material's base reflectance becomes a
+/// `Bitmap` of one image of `folder` (relative to the dataset config), uniformly per frame
+/// (src/dataset/textures.rs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureVariation {
+    pub target: String,
+    pub folder: String,
+}
+
 /// `(shape: "mug", materials: ["paint", "glass"])`: the shape's material, uniformly from the list.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -245,6 +298,24 @@ pub struct MaterialSwap {
 pub struct ObjectVariation {
     pub subsets: Vec<Subset>,
     pub place: Option<Placement>,
+    /// Meshes drawn per frame from a folder (src/dataset/asset_folder.rs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub assets: Option<AssetFolder>,
+}
+
+/// `(folder: "assets", classes: "classes.csv", material: "plastic", size: 0.3, shown: (1, 3))`:
+/// the OBJ/PLY files of `folder` (relative to the dataset config) join the scene as shapes
+/// `asset:<file name>` of the class `classes` maps their file name to (`pattern,class` lines),
+/// wearing the scene's `material`, scaled so their box's longest side is `size`; each frame
+/// shows a uniform number in `shown` of them, placed by `objects.place` (src/dataset/asset_folder.rs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AssetFolder {
+    pub folder: String,
+    pub classes: String,
+    pub material: String,
+    pub size: f32,
+    pub shown: (u32, u32),
 }
 
 /// `(shapes: ["mug", "ball", "box"], shown: (1, 2))`: a uniform number in `shown` of these

@@ -5,18 +5,24 @@
 //! can ask for comes along. configs/README.md documents the config and the output folder.
 
 pub mod apply;
+pub mod asset_folder;
 pub mod assets;
 pub mod base;
 pub mod cli;
 pub mod config;
+pub mod digits;
 pub mod export;
 pub mod frame;
+pub mod illuminant_files;
+pub mod intrinsics;
 pub mod library;
 pub mod manifest;
 pub mod place;
 pub mod plan;
 pub mod run;
 pub mod sheet;
+pub mod sheet_layers;
+pub mod textures;
 pub mod vary;
 
 pub use base::Base;

@@ -64,11 +64,25 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         params.insert("shown".into(), Value::Array(subsets));
     }
     let mut bounds = base.bounds.clone();
-    if let Some(p) = &c.objects.place {
+    // Asset-folder meshes: which show, placed with the listed shapes.
+    let assets = super::asset_folder::draw(base, i, &mut shown);
+    let place = match &assets {
+        Some((p, drawn)) => {
+            params.insert("assets".into(), drawn.clone());
+            Some(p)
+        }
+        None => c.objects.place.as_ref(),
+    };
+    if let Some(p) = place {
         let placed = super::place::place(base, p, i, &shown, &mut scene, &mut bounds)?;
         params.insert("placement".into(), placed);
     }
 
+    // K and distortion first: the pose's keep_in_view test projects through K.
+    let intrinsics = super::intrinsics::draw(base, i, &mut scene.camera);
+    if let Some(k) = intrinsics {
+        params.insert("intrinsics".into(), k);
+    }
     if let Some(cam) = &c.camera {
         let mut r = Rng::new(c.seed, i, Stream::Camera);
         let watched: Vec<usize> = cam
@@ -153,9 +167,22 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         let intensity = l.intensity.map(|x| r.range(x));
         let temperature = l.temperature.map(|x| r.range(x));
         // Drawn last from the light's stream: configs without it draw as before.
-        let illuminant = (!l.illuminants.is_empty())
-            .then(|| l.illuminants[r.index(l.illuminants.len())].clone());
+        // Uniformly over the named illuminants, then the files.
+        let files = base
+            .illuminant_files
+            .get(k)
+            .map_or(&[][..], |f| f.as_slice());
+        let count = l.illuminants.len() + files.len();
+        let drawn = (count > 0).then(|| r.index(count));
+        let file = drawn.and_then(|j| files.get(j.wrapping_sub(l.illuminants.len())));
+        let illuminant = drawn.map(|j| match file {
+            Some(f) => f.name.clone(),
+            None => l.illuminants[j].clone(),
+        });
         let new = |old: &SpectrumConfig| match (temperature, &illuminant) {
+            (_, Some(_)) if file.is_some() => {
+                file.expect("drawn").spectrum(intensity.unwrap_or(1.0))
+            }
             // A named illuminant is of unit luminance already.
             (_, Some(n)) => SpectrumConfig::Scaled(
                 intensity.unwrap_or(1.0),
@@ -258,6 +285,9 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
     if !mats.is_empty() {
         params.insert("materials".into(), Value::Array(mats));
     }
+    if let Some(t) = super::textures::draw(base, i, &mut scene) {
+        params.insert("textures".into(), t);
+    }
 
     let mut swaps = Vec::new();
     for (k, s) in c.swaps.iter().enumerate() {
@@ -320,15 +350,23 @@ fn in_view(
     }
     let t = crate::load::transform(&cam.to_world, file, "camera")?;
     let f = &scene.film;
-    let camera = Camera::new(
-        t,
-        cam.fov,
-        cam.fov_axis,
-        cam.near_clip,
-        cam.far_clip,
-        f.width,
-        f.height,
-    );
+    let camera = match &cam.intrinsics {
+        Some(k) => Camera::Pinhole(crate::camera::Pinhole::with_intrinsics(
+            t,
+            crate::camera::Intrinsics::from_k(k.fx, k.fy, k.cx, k.cy, f.width, f.height),
+            cam.near_clip,
+            cam.far_clip,
+        )),
+        None => Camera::new(
+            t,
+            cam.fov,
+            cam.fov_axis,
+            cam.near_clip,
+            cam.far_clip,
+            f.width,
+            f.height,
+        ),
+    };
     Ok(watched.iter().all(|&k| {
         let (lo, hi) = bounds[k];
         (0..8).all(|c| {

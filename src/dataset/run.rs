@@ -282,10 +282,11 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     let pngs: Vec<_> = out
         .listed()?
         .into_iter()
-        .map(|i| out.stem(i).with_extension("png"))
-        .filter(|p| preview.is_some() && p.is_file())
+        .map(|i| (i, out.stem(i).with_extension("png")))
+        .filter(|(_, p)| preview.is_some() && p.is_file())
         .collect();
-    if let Some(p) = super::sheet::write(&pngs, &out.root.join("contact_sheet.png"))? {
+    let sheet = out.root.join("contact_sheet.png");
+    if let Some(p) = super::sheet::write_frames(&pngs, &base.sheet_layers, &sheet)? {
         crate::error::note(format_args!("contact sheet: {}", p.display()));
     }
     summary.seconds = t0.elapsed().as_secs_f64();

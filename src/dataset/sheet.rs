@@ -22,7 +22,7 @@ pub const MAX_TILES: usize = 64;
 
 /// The previews the sheet shows: all of `pngs` up to [`MAX_TILES`], else that many evenly
 /// spaced ones, first and last included, in frame order.
-pub fn pick(pngs: &[PathBuf]) -> Vec<&PathBuf> {
+pub fn pick<T>(pngs: &[T]) -> Vec<&T> {
     let n = pngs.len();
     if n <= MAX_TILES {
         return pngs.iter().collect();
@@ -42,14 +42,41 @@ fn open(p: &Path) -> Result<RgbImage, Error> {
 /// previews. The first preview sets the tile size; frames of another size (a resolution
 /// variation) are placed at their tile's corner as they are, clipped to the tile.
 pub fn write(pngs: &[PathBuf], path: &Path) -> Result<Option<PathBuf>, Error> {
-    let chosen = pick(pngs);
+    let frames: Vec<(Option<u32>, PathBuf)> = pngs.iter().map(|p| (None, p.clone())).collect();
+    write_tiles(&frames, &[], path)
+}
+
+/// [`write`] of a dataset's frames `(index, preview)`: each tile numbered, with `layers` of the
+/// frame's EXR (the preview's path with `.exr`) beside its preview (src/dataset/sheet_layers.rs).
+pub fn write_frames(
+    frames: &[(u32, PathBuf)],
+    layers: &[crate::film::Aov],
+    path: &Path,
+) -> Result<Option<PathBuf>, Error> {
+    let frames: Vec<(Option<u32>, PathBuf)> =
+        frames.iter().map(|(i, p)| (Some(*i), p.clone())).collect();
+    write_tiles(&frames, layers, path)
+}
+
+fn write_tiles(
+    frames: &[(Option<u32>, PathBuf)],
+    layers: &[crate::film::Aov],
+    path: &Path,
+) -> Result<Option<PathBuf>, Error> {
+    let chosen = pick(frames);
     let Some(first) = chosen.first() else {
         return Ok(None);
     };
-    let mut first = Some(open(first)?);
-    let (tw, th) = first.as_ref().map_or((0, 0), |f| f.dimensions());
+    let mut first = Some(open(&first.1)?);
+    let (pw, th) = first.as_ref().map_or((0, 0), |f| f.dimensions());
+    // A tile: the preview, then one panel of its size per layer.
+    let panels = 1 + layers.len() as u32;
+    let tw = pw * panels;
     let n = chosen.len() as u32;
-    let cols = (n as f64).sqrt().ceil().clamp(1.0, MAX_COLUMNS as f64) as u32;
+    let cols = (n as f64 / panels as f64)
+        .sqrt()
+        .ceil()
+        .clamp(1.0, MAX_COLUMNS as f64) as u32;
     let rows = n.div_ceil(cols);
     let (width, height) = (cols * (tw + GAP) + GAP, rows * (th + GAP) + GAP);
     let grey = image::Rgb([GAP_GREY; 3]);
@@ -72,18 +99,28 @@ pub fn write(pngs: &[PathBuf], path: &Path) -> Result<Option<PathBuf>, Error> {
             strip.pixels_mut().for_each(|p| *p = grey);
             for c in 0..cols {
                 let k = (r * cols + c) as usize;
-                let Some(p) = chosen.get(k) else { break };
-                let tile = match first.take() {
+                let Some((number, p)) = chosen.get(k).copied() else {
+                    break;
+                };
+                let mut failed = |e: Error| {
+                    let m = e.to_string();
+                    unread = Some(e);
+                    m
+                };
+                let preview = match first.take() {
                     Some(t) => t,
-                    None => open(p).map_err(|e| {
-                        let m = e.to_string();
-                        unread = Some(e);
-                        m
-                    })?,
+                    None => open(p).map_err(&mut failed)?,
                 };
                 let x = GAP + c * (tw + GAP);
-                let fit = imageops::crop_imm(&tile, 0, 0, tw.min(tile.width()), th);
-                imageops::replace(&mut strip, &*fit, x as i64, 0);
+                if number.is_none() && layers.is_empty() {
+                    let fit = imageops::crop_imm(&preview, 0, 0, tw.min(preview.width()), th);
+                    imageops::replace(&mut strip, &*fit, x as i64, 0);
+                } else {
+                    let exr = p.with_extension("exr");
+                    let tile = super::sheet_layers::tile(&preview, *number, &exr, layers, (pw, th))
+                        .map_err(&mut failed)?;
+                    imageops::replace(&mut strip, &tile, x as i64, 0);
+                }
             }
             stream.write_all(strip.as_raw()).map_err(io)?;
         }

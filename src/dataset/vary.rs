@@ -39,6 +39,12 @@ pub enum Stream {
     Material(usize),
     Swap(usize),
     Sensor,
+    /// The camera's K and distortion (src/dataset/intrinsics.rs).
+    Intrinsics,
+    /// A texture variation's draw (src/dataset/textures.rs).
+    Texture(usize),
+    /// Which meshes of an asset folder show (src/dataset/asset_folder.rs).
+    Assets,
 }
 
 impl Stream {
@@ -53,6 +59,9 @@ impl Stream {
             Stream::Material(i) => (6, i),
             Stream::Swap(i) => (7, i),
             Stream::Sensor => (8, 0),
+            Stream::Intrinsics => (9, 0),
+            Stream::Texture(i) => (10, i),
+            Stream::Assets => (11, 0),
         };
         (kind << 32) | i as u64
     }

@@ -215,3 +215,127 @@ pub fn sensor_config(dir: &Path, seed: u64, variation: &str) -> PathBuf {
         t.replace("seed: 1,", &format!("seed: {seed},\n    sensor: {v},"))
     })
 }
+
+/// Everything the first header of an EXR says, by key: its custom attributes (as
+/// `exr_attributes`) and, under `(...)` keys, its channels, compression, blocks, line order,
+/// size, shared attributes and the layer's standard attributes.
+pub fn exr_header(p: &Path) -> BTreeMap<String, String> {
+    let meta = exr::meta::MetaData::read_from_file(p, false).unwrap();
+    let h = &meta.headers[0];
+    let mut m = exr_attributes(p);
+    let mut own = h.own_attributes.clone();
+    own.other.clear();
+    let rest = [
+        ("(channels)", format!("{:?}", h.channels)),
+        ("(compression)", format!("{:?}", h.compression)),
+        ("(blocks)", format!("{:?}", h.blocks)),
+        ("(line_order)", format!("{:?}", h.line_order)),
+        ("(layer_size)", format!("{:?}", h.layer_size)),
+        ("(shared)", format!("{:?}", h.shared_attributes)),
+        ("(layer)", format!("{:?}", own)),
+        ("(headers)", meta.headers.len().to_string()),
+    ];
+    for (k, v) in rest {
+        m.insert(k.to_string(), v);
+    }
+    m
+}
+
+/// A small deterministic generator of kill moments in [0, 1).
+pub fn lcg(state: &mut u64) -> f64 {
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*state >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Runs `cfg` into `out`, dying first between frame `abort_at`'s renames and its manifest line
+/// (the test hook aborts there, as `kill -9` at that moment would), then `kills` times by SIGKILL
+/// at seeded moments in the first `window` seconds of a run; after each death every listed
+/// frame is listed once and is byte-identical to `full`'s; then resumes to the end and asserts
+/// the folder's frames equal `full` byte for byte.
+pub fn kill_and_resume(
+    cfg: &Path,
+    out: &Path,
+    full: &BTreeMap<String, Vec<u8>>,
+    abort_at: u32,
+    kills: u32,
+    window: f64,
+    seed: u64,
+) {
+    let o = prism()
+        .arg("dataset")
+        .arg(cfg)
+        .arg("-o")
+        .arg(out)
+        .arg("--quiet")
+        .env("PRISM_TEST_ABORT_BEFORE_LISTING", abort_at.to_string())
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("SLURM_ARRAY_TASK_COUNT")
+        .env_remove("JOB_COMPLETION_INDEX")
+        .output()
+        .unwrap();
+    assert!(!o.status.success(), "the hook did not stop the run");
+    let stem = format!("{abort_at:06}");
+    assert!(
+        !manifest(out).contains(&(abort_at as u64))
+            && out.join(format!("frames/{stem}.exr")).is_file(),
+        "frame {abort_at}: renamed and unlisted"
+    );
+    let mut rng = seed;
+    let mut listed = manifest(out);
+    for k in 0..kills {
+        let mut child = prism()
+            .arg("dataset")
+            .arg(cfg)
+            .arg("-o")
+            .arg(out)
+            .arg("--quiet")
+            .env_remove("SLURM_ARRAY_TASK_ID")
+            .env_remove("SLURM_ARRAY_TASK_COUNT")
+            .env_remove("JOB_COMPLETION_INDEX")
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_secs_f64(lcg(&mut rng) * window));
+        let _ = child.kill(); // SIGKILL on Unix
+        let _ = child.wait();
+        let now = manifest(out);
+        let mut once = now.clone();
+        once.sort_unstable();
+        once.dedup();
+        assert_eq!(
+            once.len(),
+            now.len(),
+            "kill {k}: a frame listed twice: {now:?}"
+        );
+        assert!(
+            listed.iter().all(|i| now.contains(i)),
+            "kill {k}: lost a frame: {listed:?} -> {now:?}"
+        );
+        let files = frames(out);
+        for i in &now {
+            for ext in ["exr", "json", "png"] {
+                let name = format!("{i:06}.{ext}");
+                assert!(
+                    files.get(&name) == full.get(&name),
+                    "kill {k}: listed {name} is not the uninterrupted run's"
+                );
+            }
+        }
+        listed = now;
+    }
+    ok(&dataset(cfg, out, &[]));
+    let got = frames(out);
+    assert_eq!(
+        got.keys().collect::<Vec<_>>(),
+        full.keys().collect::<Vec<_>>()
+    );
+    for (name, bytes) in &got {
+        assert!(full[name] == *bytes, "{name}: the resumed run differs");
+    }
+    assert!(
+        std::fs::read(out.join("contact_sheet.png")).ok().is_some(),
+        "no contact sheet after the resume"
+    );
+}

@@ -1,0 +1,170 @@
+//! `prism dataset` objects drawn from an asset folder (src/dataset/asset_folder.rs): meshes of
+//! a folder with their class from a `pattern,class` file, scaled to a size, their ids fixed per
+//! dataset in `dataset.json`, shown a few per frame and placed on the support.
+
+mod dataset_util;
+use dataset_util::*;
+
+/// An edit of the config text.
+type Edit = Box<dyn Fn(String) -> String>;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// `dir/assets`: prism.obj copied as two "mug" files and one the catch-all calls "clutter".
+fn folder(dir: &Path, classes: &str) {
+    let a = dir.join("assets");
+    std::fs::create_dir_all(&a).unwrap();
+    for n in ["mug_a.obj", "mug_b.obj", "thing.obj"] {
+        std::fs::copy(root().join("scenes/meshes/prism.obj"), a.join(n)).unwrap();
+    }
+    std::fs::write(a.join("notes.txt"), "not a mesh").unwrap();
+    std::fs::write(dir.join("classes.csv"), classes).unwrap();
+}
+
+fn with_assets(fields: &'static str) -> impl Fn(String) -> String {
+    move |t: String| {
+        t.replace(
+            "    objects: (\n",
+            &format!("    objects: (\n        assets: ({fields}),\n"),
+        )
+        .replace(
+            "outputs: (preview: true,",
+            "outputs: (aovs: [\"instance\", \"label\"], preview: true,",
+        )
+    }
+}
+
+const ASSETS: &str = "folder: \"assets\", classes: \"classes.csv\", material: \"plastic\", size: 0.25, shown: (1, 2)";
+
+/// Each asset's box has the longest side `size` (to 1e-5 relative: f32 bounds); `dataset.json`
+/// lists the classes "mug" and "clutter" and the three assets with those class ids; each frame
+/// shows 1–2 assets, lists exactly those in `objects` with the dataset's ids, places them on
+/// the table, and its label layer holds only listed class ids; some frame shows a mug's pixels.
+#[test]
+fn assets_from_a_folder_have_fixed_ids_and_are_placed() {
+    let dir = workdir("assets");
+    folder(&dir, "# pattern,class\nmug_*.obj,mug\n*,clutter\n");
+    let cfg = config(&dir, with_assets(ASSETS));
+    let base = prism::dataset::Base::load(&cfg).unwrap();
+    for n in ["asset:mug_a.obj", "asset:mug_b.obj", "asset:thing.obj"] {
+        let (lo, hi) = base.bounds[base.names[n]];
+        let side = (hi - lo).max_element();
+        assert!((side / 0.25 - 1.0).abs() < 1e-5, "{n}: longest side {side}");
+    }
+    let out = dir.join("out");
+    ok(&dataset(&cfg, &out, &["--frames", "0..6"]));
+    let ds = json_file(&out.join("dataset.json"));
+    let classes: BTreeMap<String, u64> = ds["classes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            (
+                c["name"].as_str().unwrap().into(),
+                c["id"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert!(
+        classes.contains_key("mug") && classes.contains_key("clutter"),
+        "{classes:?}"
+    );
+    let mut ids = BTreeMap::new();
+    for x in ds["instances"].as_array().unwrap() {
+        let name = x["name"].as_str().unwrap().to_string();
+        if let Some(file) = name.strip_prefix("asset:") {
+            let want = if file.starts_with("mug_") {
+                "mug"
+            } else {
+                "clutter"
+            };
+            assert_eq!(x["label"], want, "{name}");
+            assert_eq!(x["label_id"].as_u64(), Some(classes[want]), "{name}");
+            ids.insert(name, x["id"].as_u64().unwrap());
+        }
+    }
+    assert_eq!(ids.len(), 3, "{ids:?}");
+    let mut mug_pixels = 0;
+    for i in 0..6 {
+        let f = json_file(&out.join(format!("frames/{i:06}.json")));
+        let drawn: Vec<String> = f["frame"]["assets"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s.as_str().unwrap().to_string())
+            .collect();
+        assert!((1..=2).contains(&drawn.len()), "frame {i}: {drawn:?}");
+        let listed: Vec<&str> = f["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|o| o["name"].as_str().filter(|n| n.starts_with("asset:")))
+            .collect();
+        assert_eq!(listed, drawn, "frame {i}: shown assets");
+        for o in f["objects"].as_array().unwrap() {
+            if let Some(id) = ids.get(o["name"].as_str().unwrap()) {
+                assert_eq!(o["instance_id"].as_u64(), Some(*id), "frame {i}");
+            }
+        }
+        let placed: Vec<&str> = f["frame"]["placement"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["shape"].as_str().unwrap())
+            .collect();
+        assert!(
+            drawn.iter().all(|d| placed.contains(&d.as_str())),
+            "frame {i}: {placed:?}"
+        );
+        let px = exr_pixels(&out.join(format!("frames/{i:06}.exr")));
+        for v in &px["label.ID"] {
+            assert!(
+                *v == 0.0 || classes.values().any(|&c| c as f32 == *v),
+                "frame {i}: label {v}"
+            );
+            mug_pixels += (*v == classes["mug"] as f32) as u32;
+        }
+    }
+    assert!(mug_pixels > 0, "no frame shows a mug");
+}
+
+/// A file no pattern matches, a missing folder, `shown` beyond the folder, and assets without
+/// `objects.place` are refused at `--check` (exit 2, field, fix).
+#[test]
+fn bad_asset_folders_are_refused_at_check() {
+    let dir = workdir("assets-bad");
+    folder(&dir, "mug_*.obj,mug\n");
+    let cases: [(Edit, &[&str]); 4] = [
+        (
+            Box::new(with_assets(ASSETS)),
+            &["objects.assets.classes", "thing.obj", "*,other"],
+        ),
+        (
+            Box::new(with_assets("folder: \"gone\", classes: \"classes.csv\", material: \"plastic\", size: 0.25, shown: (1, 2)")),
+            &["objects.assets.folder", "cannot list"],
+        ),
+        (
+            Box::new(with_assets("folder: \"assets\", classes: \"classes.csv\", material: \"plastic\", size: 0.25, shown: (1, 5)")),
+            &["objects.assets.shown", "hi ≤ 3"],
+        ),
+        (
+            Box::new(|t: String| {
+                let t = with_assets(ASSETS)(t);
+                let a = t.find("        place: (").unwrap();
+                let b = a + t[a..].find('\n').unwrap() + 1;
+                format!("{}{}", &t[..a], &t[b..])
+            }),
+            &["objects.assets", "objects.place"],
+        ),
+    ];
+    for (k, (edit, needles)) in cases.into_iter().enumerate() {
+        if k > 0 {
+            std::fs::write(dir.join("classes.csv"), "mug_*.obj,mug\n*,clutter\n").unwrap();
+        }
+        let cfg = config(&dir, edit);
+        let out = dir.join(format!("out{k}"));
+        refused(&dataset(&cfg, &out, &["--check"]), needles);
+        assert!(!out.exists(), "case {k}: the output folder was made");
+    }
+}
