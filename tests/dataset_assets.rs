@@ -168,3 +168,17 @@ fn bad_asset_folders_are_refused_at_check() {
         assert!(!out.exists(), "case {k}: the output folder was made");
     }
 }
+
+/// The `classes` file's patterns: `*` any run, `?` one character, the whole name matched.
+#[test]
+fn class_patterns_match_whole_file_names() {
+    use prism::dataset::asset_folder::matches;
+    assert!(matches("mug_*.obj", "mug_01.obj"));
+    assert!(matches("*", "anything.ply"));
+    assert!(matches("chair_??.ply", "chair_12.ply"));
+    assert!(!matches("chair_??.ply", "chair_123.ply"));
+    assert!(matches("*a*b*", "xxaxxbxx"));
+    assert!(!matches("mug_*.obj", "mug_01.ply"));
+    assert!(!matches("mug", "mug_01.obj"));
+    assert!(matches("*.obj", ".obj"));
+}

@@ -31,7 +31,7 @@ fn textured(t: String) -> String {
 
 /// 8 frames draw more than one of the three images (all alike: p = 3·(1/3)^8 ≈ 5e-4, and the
 /// seed is fixed); each frame's JSON names one relative to the config, `dataset.json` hashes
-/// the three (not the text file), and frame 2's export holds it as `Bitmap(path: <abs>)` and
+/// the three (not the text file), and frame 2's export holds it as a `Bitmap` of its absolute path and
 /// renders the frame's pixels bit for bit.
 #[test]
 fn a_material_takes_a_texture_from_a_folder_per_frame() {
@@ -72,7 +72,7 @@ fn a_material_takes_a_texture_from_a_folder_per_frame() {
     ok(&dataset(&cfg, &exp, &["--export-frame", "2"]));
     let ron = std::fs::read_to_string(exp.join("frames/000002.ron")).unwrap();
     assert!(
-        ron.contains(&format!("Bitmap(path: {:?}", dir.join(&file))),
+        ron.contains("Bitmap(") && ron.contains(&format!("path: {:?}", dir.join(&file))),
         "{ron}"
     );
     let exr = dir.join("r2.exr");
