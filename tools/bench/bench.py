@@ -51,8 +51,9 @@ PAIRS = [("prism_packet", LLVM), ("prism_scalar", LLVM), ("prism_packet", SCALAR
          ("prism_embree", LLVM), ("prism_packet", "prism_scalar"), (LLVM, SCALAR)]
 
 
-def measure(name, scene, spp, threads, repeats, binary, binary_embree, python, export, tmp) -> dict:
-    """One scene at one thread count: the interleaved rounds, load/RSS, image agreement."""
+def measure(name, scene, spp, threads, repeats, binary, binary_embree, python, export, tmp, also=()) -> dict:
+    """One scene at one thread count: the interleaved rounds, load/RSS, image agreement. `also`:
+    (name, binary) pairs of further prism builds, each's packet kernel one more renderer."""
     runners = {
         "prism_packet": rounds.prism_runner(binary, scene, spp, threads, tmp / "prism_packet.exr",
                                             ["--accel", "bvh", "--simd", "auto", *MATCHED]),
@@ -62,6 +63,9 @@ def measure(name, scene, spp, threads, repeats, binary, binary_embree, python, e
     if binary_embree:
         runners["prism_embree"] = rounds.prism_runner(binary_embree, scene, spp, threads, tmp / "prism_embree.exr",
                                                       ["--accel", "embree", *MATCHED])
+    for label, other in also:
+        runners[label] = rounds.prism_runner(other, scene, spp, threads, tmp / f"{label}.exr",
+                                             ["--accel", "bvh", "--simd", "auto", *MATCHED])
     runners["prism_packet"](100)  # warm-up: page cache, CPU clocks
     servers, rows = {}, {}
     for v in common.MITSUBA_VARIANTS:
@@ -76,7 +80,7 @@ def measure(name, scene, spp, threads, repeats, binary, binary_embree, python, e
     finally:
         for s in servers.values():
             s.close()
-    summ = rounds.summary(runs, PAIRS)
+    summ = rounds.summary(runs, PAIRS + [p for label, _ in also for p in ((label, LLVM), (label, "prism_packet"))])
     for k, rs in runs.items():
         rows[k] = {
             "msamples_per_s": summ["renderers"][k]["median"],
@@ -143,8 +147,11 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=3, help="interleaved rounds")
     ap.add_argument("--no-embree", action="store_true", help="build prism without the embree feature")
     ap.add_argument("--prism", type=pathlib.Path, help="measure this prism binary (no build; Embree rows skipped)")
+    ap.add_argument("--also", action="append", default=[], metavar="NAME=BINARY",
+                    help="another prism build whose packet kernel joins the rounds as NAME (repeatable)")
     ap.add_argument("--out", type=pathlib.Path, help="output folder (default docs/bench, or out/bench/quick)")
     args = ap.parse_args()
+    also = [(a.split("=", 1)[0], pathlib.Path(a.split("=", 1)[1])) for a in args.also]
     if args.quick:
         args.spp, args.repeats, args.threads = args.spp or 2, 1, "2"
     out = args.out or (ROOT / ("out/bench/quick" if args.quick else "docs/bench"))
@@ -176,7 +183,7 @@ def main() -> None:
             per_threads = {}
             for t in threads:
                 log(f"== {name}: {spp} spp, {t} thread(s), {args.repeats} rounds; load average {os.getloadavg()}")
-                per_threads[str(t)] = measure(name, scene, spp, t, args.repeats, binary, binary_embree, python, export, tmp)
+                per_threads[str(t)] = measure(name, scene, spp, t, args.repeats, binary, binary_embree, python, export, tmp, also)
             results["scenes"][name] = per_threads
             if len(threads) > 1:
                 lo, hi = per_threads[str(min(threads))]["rows"], per_threads[str(max(threads))]["rows"]

@@ -34,12 +34,16 @@ PAIRS = [("prism", "mitsuba_llvm_ad_spectral"), ("prism_scalar", "mitsuba_llvm_a
          ("mitsuba_llvm_ad_spectral", "mitsuba_scalar_spectral")]
 
 
-def measure(binary: pathlib.Path, spp: int, repeats: int, threads: int | None, tmp: pathlib.Path) -> dict:
+def measure(binary: pathlib.Path, spp: int, repeats: int, threads: int | None, tmp: pathlib.Path,
+            also: list[tuple[str, pathlib.Path]] = ()) -> dict:
+    """The interleaved rounds; `also`: (name, binary) of further prism builds (packet kernel)."""
     scene = ROOT / "scenes/cornell.ron"
     runners = {
         "prism": rounds.prism_runner(binary, scene, spp, threads, tmp / "prism.exr", ["--simd", "auto"]),
         "prism_scalar": rounds.prism_runner(binary, scene, spp, threads, tmp / "prism_scalar.exr", ["--simd", "off"]),
     }
+    for label, other in also:
+        runners[label] = rounds.prism_runner(other, scene, spp, threads, tmp / f"{label}.exr", ["--simd", "auto"])
     runners["prism"](100)  # warm-up: page cache, CPU clocks
     servers, errors = [], {}
     for v in ("scalar_spectral", "llvm_ad_spectral"):
@@ -54,7 +58,8 @@ def measure(binary: pathlib.Path, spp: int, repeats: int, threads: int | None, t
     finally:
         for s in servers:
             s.close()
-    out = {"runs": runs, "summary": rounds.summary(runs, PAIRS), "unavailable": errors, "agreement": {}}
+    pairs = PAIRS + [p for label, _ in also for p in ((label, "mitsuba_llvm_ad_spectral"), (label, "prism"))]
+    out = {"runs": runs, "summary": rounds.summary(runs, pairs), "unavailable": errors, "agreement": {}}
     images = {k: tmp / f"{k.removeprefix('mitsuba_')}.exr" for k in runners}
     for a, b in [("mitsuba_llvm_ad_spectral", "mitsuba_scalar_spectral"), ("prism", "mitsuba_scalar_spectral"),
                  ("prism_scalar", "mitsuba_scalar_spectral")]:
@@ -70,9 +75,12 @@ def main() -> None:
     ap.add_argument("--threads", type=int, help="threads of every renderer (default: all cores)")
     ap.add_argument("--prism", type=pathlib.Path, default=ROOT / "target/release/prism")
     ap.add_argument("--json", type=pathlib.Path, help="also write the results here")
+    ap.add_argument("--also", action="append", default=[], metavar="NAME=BINARY",
+                    help="another prism build whose packet kernel joins the rounds as NAME (repeatable)")
     args = ap.parse_args()
+    also = [(a.split("=", 1)[0], pathlib.Path(a.split("=", 1)[1])) for a in args.also]
     with tempfile.TemporaryDirectory() as tmp:
-        res = measure(args.prism, args.spp, args.repeats, args.threads, pathlib.Path(tmp))
+        res = measure(args.prism, args.spp, args.repeats, args.threads, pathlib.Path(tmp), also)
     res.update(machine={"cpus": os.cpu_count(), "load_average_after": os.getloadavg()}, spp=args.spp,
                prism=str(args.prism))
     title = f"Cornell box 256x256, {args.spp} spp, {args.threads or os.cpu_count()} threads, {args.repeats} rounds"

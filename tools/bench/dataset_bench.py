@@ -83,7 +83,7 @@ def timing(a, prism: str, tmp: pathlib.Path) -> None:
     for i in starts:
         run([prism, "dataset", str(cfg), "-o", str(tmp / "export"), "--export-frame", str(i), "-q"])
     print(f"load average before: {load()}", flush=True)
-    chunks, lone = [], []
+    chunks, lone, scalar = [], [], []
     for i in starts:
         hi = min(i + a.chunk, a.frames)
         chunks.append(run([prism, "dataset", str(cfg), "-o", str(out), "--frames", f"{i}..{hi}", "-q"]))
@@ -92,6 +92,11 @@ def timing(a, prism: str, tmp: pathlib.Path) -> None:
                          "--preview", str(tmp / "lone.png")]))
         print(f"  frames {i}..{hi}: dataset {chunks[-1]['wall']:.1f} s wall {chunks[-1]['cpu']:.2f} s CPU; "
               f"lone frame {i}: {lone[-1]['wall']:.2f} s wall {lone[-1]['cpu']:.2f} s CPU; load {load()}", flush=True)
+        if a.lone_scalar:
+            scalar.append(run([prism, "render", str(scene), "-o", str(tmp / "lone.exr"), "-q", "--simd", "off",
+                               "--preview", str(tmp / "lone.png")]))
+            print(f"    lone frame {i} with --simd off: {scalar[-1]['wall']:.2f} s wall {scalar[-1]['cpu']:.2f} s CPU",
+                  flush=True)
     print(f"load average after: {load()}")
     lines = {e["frame"]: e for e in map(json.loads, (out / "manifest.jsonl").read_text().splitlines())}
     assert sorted(lines) == list(range(a.frames)), "every frame listed once"
@@ -101,13 +106,18 @@ def timing(a, prism: str, tmp: pathlib.Path) -> None:
     lone_cpu = sum(x["cpu"] for x in lone) / n
     ds_wall = sum(x["wall"] for x in chunks)
     ds_cpu = sum(x["cpu"] for x in chunks)
-    print(f"dataset: {a.frames} frames {a.size}x{a.size} {a.spp} spp in {n} processes of {a.chunk}: "
+    size = f"{a.size}x{a.size} {a.spp} spp" if a.size else "at the config's size and spp"
+    print(f"dataset: {a.frames} frames {size} in {n} processes of {a.chunk}: "
           f"{ds_wall:.1f} s wall ({ds_wall / a.frames:.3f} s/frame, {3600 * a.frames / ds_wall:.0f} frames/hour), "
           f"{ds_cpu:.1f} s CPU ({ds_cpu / a.frames:.3f} s/frame, {3600 * a.frames / ds_cpu:.0f} frames per CPU-hour)")
     print(f"paired wall, frames {starts[0]}, {starts[1] if n > 1 else ''}...: inside the dataset run "
           f"{in_run:.3f} s/frame; lone `prism render` {lone_wall:.3f} s/frame; ratio {in_run / lone_wall:.3f}")
     print(f"CPU: dataset {ds_cpu / a.frames:.3f} s/frame (all {a.frames}); lone {lone_cpu:.3f} s/frame "
           f"({n} sampled); ratio {ds_cpu / a.frames / lone_cpu:.3f}")
+    if scalar:
+        ratios = sorted(x["cpu"] / y["cpu"] for x, y in zip(scalar, lone))
+        print(f"lone frames, --simd off over --simd auto (CPU seconds, same frame, run one after the other): "
+              f"median {ratios[len(ratios) // 2]:.3f}, range {ratios[0]:.3f}-{ratios[-1]:.3f} over {len(ratios)} frames")
 
 
 def main() -> None:
@@ -121,6 +131,8 @@ def main() -> None:
     ap.add_argument("--rss-size", type=int, default=None, help="image size of the RSS runs (default --size)")
     ap.add_argument("--rss-spp", type=int, default=None)
     ap.add_argument("--skip-rss", action="store_true")
+    ap.add_argument("--lone-scalar", action="store_true",
+                    help="also render each sampled frame alone with --simd off (the dataset command has no --simd)")
     ap.add_argument("--config", type=pathlib.Path, help="base dataset config (default configs/datasets/smoke.ron; "
                     "e.g. configs/datasets/tabletop.ron)")
     ap.add_argument("--skip-timing", action="store_true", help="only the RSS runs")
