@@ -206,6 +206,38 @@ def plot(rows: list[dict], scenes: list[str], path: pathlib.Path) -> None:
     fig.savefig(path, dpi=120)
 
 
+def write_outputs(out: pathlib.Path, rows: list[dict], scenes: list[str], cross: dict, quiet: bool = False) -> None:
+    """Every output file, from the rows so far (rewritten after each scene, so a run cut short keeps its finished scenes)."""
+    with open(out / "error_time.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["scene", "renderer", "spp", "seconds", "relmse", "load_1min"])
+        w.writeheader()
+        w.writerows(rows)
+    sp = [s for name in scenes for s in speedups(rows, name)]
+    with open(out / "error_time_speedups.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["scene", "renderer", "slope", "target_relmse", "seconds_to_target", "speedup_of_prism"])
+        w.writeheader()
+        w.writerows(sp)
+    plot(rows, scenes, out / "error_time.png")
+    md = ["# Error against time", "", f"Command: `tools/bench/error_time.py {' '.join(sys.argv[1:])}`",
+          f"Machine: {json.dumps(common.machine_info())} (at the end)", "",
+          "Equal-error speedup: time the row needs to reach the target relMSE over the time `prism` needs "
+          "(power-law fits; > 1 means prism is faster). Slope: fitted d log relMSE / d log t (-1 for plain Monte Carlo).", ""]
+    for name in scenes:
+        md += [f"## {name}", "", f"relMSE of Mitsuba's reference against prism's: {cross[name]}", "",
+               "| renderer | slope | target relMSE | seconds to target | speedup of prism |", "|---|---|---|---|---|"]
+        md += [f"| {s['renderer']} | {s['slope']:.2f} | {s['target_relmse']:.3g} | {s['seconds_to_target']:.3g} | {s['speedup_of_prism']:.2f} |"
+               for s in sp if s["scene"] == name]
+        mi_rows = [s for s in sp if s["scene"] == name and s["renderer"].startswith("mitsuba")]
+        if mi_rows:
+            best = min(mi_rows, key=lambda s: s["seconds_to_target"])
+            md += ["", f"prism's time to equal error over Mitsuba's best ({best['renderer']}): "
+                       f"**{1 / best['speedup_of_prism']:.2f}×**"]
+        md.append("")
+    (out / "error_time_speedups.md").write_text("\n".join(md))
+    if not quiet:
+        log("\n".join(md))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="smoke check: a few spp, small references")
@@ -239,33 +271,9 @@ def main() -> None:
             r, c = run_scene(name, binary, python, max_spp, ref_spp, args.threads, pathlib.Path(tmp), variants)
             rows += r
             cross[name] = c
-    with open(out / "error_time.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["scene", "renderer", "spp", "seconds", "relmse", "load_1min"])
-        w.writeheader()
-        w.writerows(rows)
-    sp = [s for name in scenes for s in speedups(rows, name)]
-    with open(out / "error_time_speedups.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["scene", "renderer", "slope", "target_relmse", "seconds_to_target", "speedup_of_prism"])
-        w.writeheader()
-        w.writerows(sp)
-    plot(rows, scenes, out / "error_time.png")
-    md = ["# Error against time", "", f"Command: `tools/bench/error_time.py {' '.join(sys.argv[1:])}`",
-          f"Machine: {json.dumps(common.machine_info())} (at the end)", "",
-          "Equal-error speedup: time the row needs to reach the target relMSE over the time `prism` needs "
-          "(power-law fits; > 1 means prism is faster). Slope: fitted d log relMSE / d log t (-1 for plain Monte Carlo).", ""]
-    for name in scenes:
-        md += [f"## {name}", "", f"relMSE of Mitsuba's reference against prism's: {cross[name]}", "",
-               "| renderer | slope | target relMSE | seconds to target | speedup of prism |", "|---|---|---|---|---|"]
-        md += [f"| {s['renderer']} | {s['slope']:.2f} | {s['target_relmse']:.3g} | {s['seconds_to_target']:.3g} | {s['speedup_of_prism']:.2f} |"
-               for s in sp if s["scene"] == name]
-        mi_rows = [s for s in sp if s["scene"] == name and s["renderer"].startswith("mitsuba")]
-        if mi_rows:
-            best = min(mi_rows, key=lambda s: s["seconds_to_target"])
-            md += ["", f"prism's time to equal error over Mitsuba's best ({best['renderer']}): "
-                       f"**{1 / best['speedup_of_prism']:.2f}×**"]
-        md.append("")
-    (out / "error_time_speedups.md").write_text("\n".join(md))
-    log("\n".join(md))
+            done = scenes[: scenes.index(name) + 1]
+            write_outputs(out, rows, done, cross, quiet=True)
+    write_outputs(out, rows, scenes, cross)
     log(f"wrote {out}/error_time.csv, error_time_speedups.csv, error_time_speedups.md, error_time.png")
 
 

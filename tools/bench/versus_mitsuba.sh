@@ -11,7 +11,7 @@
 # $PYTHON (default tools/.venv/bin/python). Steps, each into OUT_DIR:
 #   1. cornell_throughput.py  Mitsuba's own cornell_box(), 16 spp, 5 rounds
 #   2. bench.py               materials, 1M-triangle mesh, metals, glass, plastics; 2 threads, 5 rounds
-#   3. error_time.py          Cornell, materials, mesh: ladders to 32 spp, references at 512 spp
+#   3. error_time.py          Cornell, materials, mesh: ladders to 8 spp, references at 64 spp (a busy machine)
 #   4. dataset_bench.py       configs/datasets/tabletop.ron at its own size and spp, 12 frames in 3 processes
 #   5. profile.sh             callgrind of metals, glass, plastics (1 spp, 1 thread; packet and scalar)
 # STEPS="1 2" runs a subset; ROUNDS (default 5) and BENCH_SPP (default bench.py's per scene)
@@ -41,7 +41,7 @@ for step in $steps; do
            --threads 2 --repeats "$rounds" "${bench_spp[@]}" --out "$out" "${also[@]}" 2>&1 | tail -n 200 > "$out/bench.txt" ;;
     3) stamp "3. error_time.py" | tee -a "$out/log.txt"
        run "$py" tools/bench/error_time.py --prism "$prism" --scenes cornell,materials,mesh \
-           --variants "prism,prism scalar,prism as Mitsuba" --max-spp 32 --ref-spp 512 --threads 2 \
+           --variants "prism,prism scalar" --max-spp 8 --ref-spp 64 --threads 2 \
            --out "$out" 2>&1 | tail -n 120 > "$out/error_time.txt" ;;
     4) stamp "4. dataset_bench.py" | tee -a "$out/log.txt"
        PRISM_BIN=$prism run "$py" tools/bench/dataset_bench.py --config configs/datasets/tabletop.ron \
