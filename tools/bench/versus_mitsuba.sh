@@ -12,9 +12,9 @@
 #   1. cornell_throughput.py  Mitsuba's own cornell_box(), 16 spp, 5 rounds
 #   2. bench.py               materials, 1M-triangle mesh, metals, glass, plastics; 2 threads, 5 rounds
 #   3. error_time.py          Cornell, materials, mesh: ladders to 8 spp, references at 64 spp (a busy machine)
-#   4. dataset_bench.py       configs/datasets/tabletop.ron at its own size and spp, 12 frames in 3 processes
+#   4. dataset_bench.py       configs/datasets/tabletop.ron at its own size and spp, 8 frames in 2 processes
 #   5. profile.sh             callgrind of metals, glass, plastics (1 spp, 1 thread; packet and scalar)
-# STEPS="1 2" runs a subset; ROUNDS (default 5) and BENCH_SPP (default bench.py's per scene)
+# STEPS="1 2" runs a subset; BENCH_SCENES the scenes of step 2; ROUNDS (default 5) and BENCH_SPP (default bench.py's per scene)
 # shrink it further on a busy machine.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -37,7 +37,7 @@ for step in $steps; do
        run "$py" tools/bench/cornell_throughput.py --prism "$prism" --spp 16 --repeats "$rounds" --threads 2 \
            --json "$out/cornell.json" "${also[@]}" 2>&1 | tee "$out/cornell.txt" ;;
     2) stamp "2. bench.py" | tee -a "$out/log.txt"
-       run "$py" tools/bench/bench.py --prism "$prism" --scenes materials,mesh,metals,glass,plastics \
+       run "$py" tools/bench/bench.py --prism "$prism" --scenes "${BENCH_SCENES:-materials,mesh,metals,glass,plastics}" \
            --threads 2 --repeats "$rounds" "${bench_spp[@]}" --out "$out" "${also[@]}" 2>&1 | tail -n 200 > "$out/bench.txt" ;;
     3) stamp "3. error_time.py" | tee -a "$out/log.txt"
        run "$py" tools/bench/error_time.py --prism "$prism" --scenes cornell,materials,mesh \
@@ -45,7 +45,7 @@ for step in $steps; do
            --out "$out" 2>&1 | tail -n 120 > "$out/error_time.txt" ;;
     4) stamp "4. dataset_bench.py" | tee -a "$out/log.txt"
        PRISM_BIN=$prism run "$py" tools/bench/dataset_bench.py --config configs/datasets/tabletop.ron \
-           --frames 12 --chunk 4 --size 0 --skip-rss --lone-scalar 2>&1 | tee "$out/dataset.txt" ;;
+           --frames 8 --chunk 4 --size 0 --skip-rss --lone-scalar 2>&1 | tee "$out/dataset.txt" ;;
     5) stamp "5. profile.sh" | tee -a "$out/log.txt"
        for s in metals glass plastics; do
            for simd in auto off; do
