@@ -22,6 +22,10 @@ SCENES = {
     "cornell": ROOT / "scenes/cornell.ron",
     "materials": ROOT / "scenes/bench/materials.ron",
     "mesh": ROOT / "scenes/bench/mesh.ron",
+    # Issue 26's kept-back-like scenes: three spheres on a floor, a blackbody light, a D65 sky.
+    "metals": ROOT / "scenes/bench/metals.ron",
+    "glass": ROOT / "scenes/bench/glass.ron",
+    "plastics": ROOT / "scenes/bench/plastics.ron",
 }
 MESH_PLY = ROOT / "out/bench/mesh_1m.ply"
 MITSUBA_VARIANTS = ("scalar_spectral", "llvm_ad_spectral")

@@ -17,8 +17,9 @@
 Full size (the issue's): --frames 200 --size 128 --spp 16 --rss-long 1000 --rss-short 10
 (the defaults; --rss-spp 1 keeps the RSS runs short). configs/README.md has the figures.
 Run: tools/.venv/bin/python tools/bench/dataset_bench.py [--frames N --size S --spp P ...]
-The base is configs/datasets/smoke.ron (the tabletop scene, every kind of variation) with its
-frame count, resolution and spp replaced.
+The base is configs/datasets/smoke.ron (the tabletop scene, every kind of variation), or
+`--config FILE` (e.g. configs/datasets/tabletop.ron), with its frame count, resolution and spp
+replaced. PRISM_BIN=BINARY measures another build.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ import argparse
 import json
 import os
 import pathlib
+import re
 import shutil
 import subprocess
 import tempfile
@@ -46,13 +48,24 @@ def run(cmd: list[str]) -> dict:
     return {"wall": wall, "user": ru.ru_utime, "cpu": ru.ru_utime + ru.ru_stime, "rss": ru.ru_maxrss / 1024}
 
 
-def config(tmp: pathlib.Path, frames: int, size: int, spp: int) -> pathlib.Path:
-    ds = ROOT / "configs" / "datasets"
-    text = (ds / "smoke.ron").read_text()
-    text = text.replace('"scenes/tabletop.ron"', json.dumps(str(ds / "scenes" / "tabletop.ron")))
-    text = text.replace('"../../scenes/textures/sky.exr"', json.dumps(str(ROOT / "scenes" / "textures" / "sky.exr")))
-    text = text.replace("frames: 8,", f"frames: {frames},")
-    text = text.replace("spp: 8, resolution: (64, 48)", f"spp: {spp}, resolution: ({size}, {size})")
+def config(tmp: pathlib.Path, frames: int, size: int, spp: int, base: pathlib.Path | None = None) -> pathlib.Path:
+    """`base` (default configs/datasets/smoke.ron) with its frame count, spp and resolution
+    replaced, written to `tmp`: every quoted relative path that names a file beside the base is
+    made absolute."""
+    base = base or ROOT / "configs" / "datasets" / "smoke.ron"
+    text = base.read_text()
+
+    def absolute(m: re.Match) -> str:
+        p = base.parent / m.group(1)
+        return json.dumps(str(p.resolve())) if not pathlib.Path(m.group(1)).is_absolute() and p.is_file() else m.group(0)
+
+    text = re.sub(r'"([^"\n]+\.[A-Za-z]+)"', absolute, text)
+    text = re.sub(r"\bframes: \d+,", f"frames: {frames},", text, count=1)
+    n = 1
+    if size:  # 0: the config's own resolution and spp
+        text, n = re.subn(r"spp: \d+, resolution: \(\d+, \d+\)", f"spp: {spp}, resolution: ({size}, {size})", text)
+    if n != 1:
+        raise SystemExit(f"{base}: no `outputs: (... spp: N, resolution: (W, H))` to replace")
     p = tmp / f"bench_{frames}_{size}_{spp}.ron"
     p.write_text(text)
     return p
@@ -64,13 +77,13 @@ def load() -> str:
 
 def timing(a, prism: str, tmp: pathlib.Path) -> None:
     """Figures 1 and 2 of the module docs: the chunked run against lone renders."""
-    cfg = config(tmp, a.frames, a.size, a.spp)
+    cfg = config(tmp, a.frames, a.size, a.spp, a.config)
     out = tmp / "out"
     starts = list(range(0, a.frames, a.chunk))
     for i in starts:
         run([prism, "dataset", str(cfg), "-o", str(tmp / "export"), "--export-frame", str(i), "-q"])
     print(f"load average before: {load()}", flush=True)
-    chunks, lone = [], []
+    chunks, lone, scalar = [], [], []
     for i in starts:
         hi = min(i + a.chunk, a.frames)
         chunks.append(run([prism, "dataset", str(cfg), "-o", str(out), "--frames", f"{i}..{hi}", "-q"]))
@@ -79,6 +92,11 @@ def timing(a, prism: str, tmp: pathlib.Path) -> None:
                          "--preview", str(tmp / "lone.png")]))
         print(f"  frames {i}..{hi}: dataset {chunks[-1]['wall']:.1f} s wall {chunks[-1]['cpu']:.2f} s CPU; "
               f"lone frame {i}: {lone[-1]['wall']:.2f} s wall {lone[-1]['cpu']:.2f} s CPU; load {load()}", flush=True)
+        if a.lone_scalar:
+            scalar.append(run([prism, "render", str(scene), "-o", str(tmp / "lone.exr"), "-q", "--simd", "off",
+                               "--preview", str(tmp / "lone.png")]))
+            print(f"    lone frame {i} with --simd off: {scalar[-1]['wall']:.2f} s wall {scalar[-1]['cpu']:.2f} s CPU",
+                  flush=True)
     print(f"load average after: {load()}")
     lines = {e["frame"]: e for e in map(json.loads, (out / "manifest.jsonl").read_text().splitlines())}
     assert sorted(lines) == list(range(a.frames)), "every frame listed once"
@@ -88,26 +106,35 @@ def timing(a, prism: str, tmp: pathlib.Path) -> None:
     lone_cpu = sum(x["cpu"] for x in lone) / n
     ds_wall = sum(x["wall"] for x in chunks)
     ds_cpu = sum(x["cpu"] for x in chunks)
-    print(f"dataset: {a.frames} frames {a.size}x{a.size} {a.spp} spp in {n} processes of {a.chunk}: "
+    size = f"{a.size}x{a.size} {a.spp} spp" if a.size else "at the config's size and spp"
+    print(f"dataset: {a.frames} frames {size} in {n} processes of {a.chunk}: "
           f"{ds_wall:.1f} s wall ({ds_wall / a.frames:.3f} s/frame, {3600 * a.frames / ds_wall:.0f} frames/hour), "
           f"{ds_cpu:.1f} s CPU ({ds_cpu / a.frames:.3f} s/frame, {3600 * a.frames / ds_cpu:.0f} frames per CPU-hour)")
     print(f"paired wall, frames {starts[0]}, {starts[1] if n > 1 else ''}...: inside the dataset run "
           f"{in_run:.3f} s/frame; lone `prism render` {lone_wall:.3f} s/frame; ratio {in_run / lone_wall:.3f}")
     print(f"CPU: dataset {ds_cpu / a.frames:.3f} s/frame (all {a.frames}); lone {lone_cpu:.3f} s/frame "
           f"({n} sampled); ratio {ds_cpu / a.frames / lone_cpu:.3f}")
+    if scalar:
+        ratios = sorted(x["cpu"] / y["cpu"] for x, y in zip(scalar, lone))
+        print(f"lone frames, --simd off over --simd auto (CPU seconds, same frame, run one after the other): "
+              f"median {ratios[len(ratios) // 2]:.3f}, range {ratios[0]:.3f}-{ratios[-1]:.3f} over {len(ratios)} frames")
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--frames", type=int, default=200)
     ap.add_argument("--chunk", type=int, default=10, help="dataset frames per process; the first of each is rendered alone")
-    ap.add_argument("--size", type=int, default=128)
+    ap.add_argument("--size", type=int, default=128, help="square film size; 0 keeps the config's resolution and spp")
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--rss-short", type=int, default=10)
     ap.add_argument("--rss-long", type=int, default=1000)
     ap.add_argument("--rss-size", type=int, default=None, help="image size of the RSS runs (default --size)")
     ap.add_argument("--rss-spp", type=int, default=None)
     ap.add_argument("--skip-rss", action="store_true")
+    ap.add_argument("--lone-scalar", action="store_true",
+                    help="also render each sampled frame alone with --simd off (the dataset command has no --simd)")
+    ap.add_argument("--config", type=pathlib.Path, help="base dataset config (default configs/datasets/smoke.ron; "
+                    "e.g. configs/datasets/tabletop.ron)")
     ap.add_argument("--skip-timing", action="store_true", help="only the RSS runs")
     a = ap.parse_args()
     prism = os.environ.get("PRISM_BIN", str(ROOT / "target" / "release" / "prism"))
@@ -120,7 +147,7 @@ def main() -> None:
         rs, rsp = a.rss_size or a.size, a.rss_spp or a.spp
         rss = {}
         for k in (a.rss_short, a.rss_long):
-            c = config(tmp, k, rs, rsp)
+            c = config(tmp, k, rs, rsp, a.config)
             r = run([prism, "dataset", str(c), "-o", str(tmp / f"rss{k}"), "-q"])
             rss[k] = r["rss"]
             print(f"peak RSS after {k} frames ({rs}x{rs}, {rsp} spp): {r['rss']:.1f} MiB "

@@ -7,7 +7,8 @@ its sampler and wavelength variants) and Mitsuba 3, on the benchmark scenes.
 Curves (one render per spp of a doubling ladder, render time only, scene loading excluded):
 - prism, BVH, at its defaults (padded Owen-scrambled Sobol sampler, 8 wavelengths per path,
   visible-importance wavelength sampling): `prism`;
-- prism variants, one change each: `--sampler independent` (Mitsuba's default sampler),
+- prism variants, one change each: `--simd off` (the scalar integrator instead of the packet
+  kernel: `prism scalar`), `--sampler independent` (Mitsuba's default sampler),
   `--wavelengths 4` (Mitsuba's count), `--wavelengths 1`, `--wavelength-sampling uniform`,
   and, on the scenes whose file turns caustic light tracing on (materials), `--caustics off`;
   and with Mitsuba's settings (independent, 4 wavelengths, no light tracing): `prism as
@@ -33,6 +34,7 @@ import argparse
 import csv
 import json
 import math
+import os
 import pathlib
 import sys
 import tempfile
@@ -56,6 +58,7 @@ PRISM_VARIANTS = {
     "prism uniform wavelengths": [*DEFAULTS, "--wavelength-sampling", "uniform"],
     "prism without caustics": [*DEFAULTS, "--caustics", "off"],
     "prism as Mitsuba": ["--sampler", "independent", "--wavelengths", "4", "--caustics", "off"],
+    "prism scalar": [*DEFAULTS, "--simd", "off"],
 }
 # Variants that only differ from `prism` on some scenes, run on those alone.
 VARIANT_SCENES = {"prism without caustics": {"materials"}}
@@ -97,7 +100,8 @@ def time_for(f: tuple[float, float], err: float) -> float:
     return math.exp((math.log(err) - a) / b)
 
 
-def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_spp: int, threads: int, tmp: pathlib.Path):
+def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_spp: int, threads: int, tmp: pathlib.Path,
+              variants: list[str]):
     scene = SCENES[name]
     spps = ladder(max_spp)
     rows: list[dict] = []
@@ -107,16 +111,17 @@ def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_sp
         raise RuntimeError(r["error"])
     ref_prism = read_rgb(ref_exr)
     for label, extra in PRISM_VARIANTS.items():
-        if name not in VARIANT_SCENES.get(label, {name}):
+        if label not in variants or name not in VARIANT_SCENES.get(label, {name}):
             continue
         for spp in spps:
             exr = tmp / f"{name}_p.exr"
+            load = round(os.getloadavg()[0], 2)
             r = common.prism_render(binary, scene, spp, threads, exr, extra)
             if "error" in r:
                 log(f"  {label}: {r['error']}")
                 break
             rows.append({"scene": name, "renderer": label, "spp": spp, "seconds": r["render_s"],
-                         "relmse": relmse(read_rgb(exr), ref_prism)})
+                         "relmse": relmse(read_rgb(exr), ref_prism), "load_1min": load})
     export = tmp / f"export_{name}"
     common.export_scene(binary, scene, export)
     ref_mi = None
@@ -132,6 +137,7 @@ def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_sp
             for sampler in MITSUBA_SAMPLERS:
                 label = f"mitsuba {variant}" + ("" if sampler == "independent" else f" {sampler}")
                 d = tmp / f"{name}_{variant}_{sampler}"
+                load = round(os.getloadavg()[0], 2)
                 res = common.mitsuba_ladder(python, export, variant, spps, threads, d, sampler=sampler)
                 if "error" in res:
                     log(f"  {label}: {res['error'].splitlines()[-1]}")
@@ -144,7 +150,8 @@ def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_sp
                         continue
                     seen.add(res["spp_rendered"][str(spp)])
                     rows.append({"scene": name, "renderer": label, "spp": res["spp_rendered"][str(spp)],
-                                 "seconds": res["render_s"][str(spp)], "relmse": relmse(read_rgb(d / f"spp_{spp}.exr"), ref_mi)})
+                                 "seconds": res["render_s"][str(spp)], "relmse": relmse(read_rgb(d / f"spp_{spp}.exr"), ref_mi),
+                                 "load_1min": load})
     cross = relmse(ref_mi, ref_prism) if ref_mi is not None else None
     return rows, cross
 
@@ -199,34 +206,10 @@ def plot(rows: list[dict], scenes: list[str], path: pathlib.Path) -> None:
     fig.savefig(path, dpi=120)
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="smoke check: a few spp, small references")
-    ap.add_argument("--scenes", default="cornell,materials,mesh")
-    ap.add_argument("--threads", type=int, default=__import__("os").cpu_count())
-    ap.add_argument("--max-spp", type=int, help="top of every scene's spp ladder (overrides the table)")
-    ap.add_argument("--ref-spp", type=int, help="spp of every scene's references (overrides the table)")
-    ap.add_argument("--out", type=pathlib.Path, help="output folder (default docs/bench, or out/bench/quick)")
-    args = ap.parse_args()
-    out = args.out or (ROOT / ("out/bench/quick" if args.quick else "docs/bench"))
-    out.mkdir(parents=True, exist_ok=True)
-    table = QUICK if args.quick else FULL
-    scenes = args.scenes.split(",")
-    python = sys.executable
-    binary = common.build_prism()
-    common.ensure_mesh(python)
-    rows: list[dict] = []
-    cross: dict[str, float | None] = {}
-    with tempfile.TemporaryDirectory() as tmp:
-        for name in scenes:
-            max_spp, ref_spp = table[name]
-            max_spp, ref_spp = args.max_spp or max_spp, args.ref_spp or ref_spp
-            log(f"== {name}: ladder up to {max_spp} spp, references at {ref_spp} spp, {args.threads} threads")
-            r, c = run_scene(name, binary, python, max_spp, ref_spp, args.threads, pathlib.Path(tmp))
-            rows += r
-            cross[name] = c
+def write_outputs(out: pathlib.Path, rows: list[dict], scenes: list[str], cross: dict, quiet: bool = False) -> None:
+    """Every output file, from the rows so far (rewritten after each scene, so a run cut short keeps its finished scenes)."""
     with open(out / "error_time.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["scene", "renderer", "spp", "seconds", "relmse"])
+        w = csv.DictWriter(f, fieldnames=["scene", "renderer", "spp", "seconds", "relmse", "load_1min"])
         w.writeheader()
         w.writerows(rows)
     sp = [s for name in scenes for s in speedups(rows, name)]
@@ -236,7 +219,7 @@ def main() -> None:
         w.writerows(sp)
     plot(rows, scenes, out / "error_time.png")
     md = ["# Error against time", "", f"Command: `tools/bench/error_time.py {' '.join(sys.argv[1:])}`",
-          f"Machine: {json.dumps(common.machine_info())}", "",
+          f"Machine: {json.dumps(common.machine_info())} (at the end)", "",
           "Equal-error speedup: time the row needs to reach the target relMSE over the time `prism` needs "
           "(power-law fits; > 1 means prism is faster). Slope: fitted d log relMSE / d log t (-1 for plain Monte Carlo).", ""]
     for name in scenes:
@@ -251,7 +234,46 @@ def main() -> None:
                        f"**{1 / best['speedup_of_prism']:.2f}×**"]
         md.append("")
     (out / "error_time_speedups.md").write_text("\n".join(md))
-    log("\n".join(md))
+    if not quiet:
+        log("\n".join(md))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="smoke check: a few spp, small references")
+    ap.add_argument("--scenes", default="cornell,materials,mesh")
+    ap.add_argument("--threads", type=int, default=os.cpu_count())
+    ap.add_argument("--max-spp", type=int, help="top of every scene's spp ladder (overrides the table)")
+    ap.add_argument("--ref-spp", type=int, help="spp of every scene's references (overrides the table)")
+    ap.add_argument("--out", type=pathlib.Path, help="output folder (default docs/bench, or out/bench/quick)")
+    ap.add_argument("--variants", help="comma-separated prism curves to run (default all: " + ", ".join(PRISM_VARIANTS) + ")")
+    ap.add_argument("--prism", type=pathlib.Path, help="measure this prism binary (no build)")
+    args = ap.parse_args()
+    variants = args.variants.split(",") if args.variants else list(PRISM_VARIANTS)
+    unknown = [v for v in variants if v not in PRISM_VARIANTS]
+    if unknown or "prism" not in variants:
+        ap.error(f"--variants: {unknown or 'prism'} {'unknown' if unknown else 'is required (the speedups are over it)'}; "
+                 f"choose from {', '.join(PRISM_VARIANTS)}")
+    out = args.out or (ROOT / ("out/bench/quick" if args.quick else "docs/bench"))
+    out.mkdir(parents=True, exist_ok=True)
+    table = QUICK if args.quick else FULL
+    scenes = args.scenes.split(",")
+    python = sys.executable
+    binary = args.prism or common.build_prism()
+    common.ensure_mesh(python)
+    rows: list[dict] = []
+    cross: dict[str, float | None] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in scenes:
+            max_spp, ref_spp = table[name]
+            max_spp, ref_spp = args.max_spp or max_spp, args.ref_spp or ref_spp
+            log(f"== {name}: ladder up to {max_spp} spp, references at {ref_spp} spp, {args.threads} threads")
+            r, c = run_scene(name, binary, python, max_spp, ref_spp, args.threads, pathlib.Path(tmp), variants)
+            rows += r
+            cross[name] = c
+            done = scenes[: scenes.index(name) + 1]
+            write_outputs(out, rows, done, cross, quiet=True)
+    write_outputs(out, rows, scenes, cross)
     log(f"wrote {out}/error_time.csv, error_time_speedups.csv, error_time_speedups.md, error_time.png")
 
 

@@ -7,6 +7,14 @@
 The second form renders once at each spp of the ladder (each after its own warm-up) and writes
 DIR/spp_N.exr: the error-against-time curves of error_time.py.
 
+    python tools/bench/mitsuba_worker.py EXPORT_DIR|cornell_box --variant V --spp 16 --serve
+
+The third form loads the scene, renders one warm-up, prints a JSON line ("ready"), then renders
+once per line read from stdin (the line is the seed) and prints each render's seconds as a JSON
+line: the interleaved rounds of common.Interleaved, where Mitsuba's renders alternate with
+prism's while its scene stays loaded and its kernels compiled. `cornell_box` instead of a folder
+is Mitsuba's own `mi.cornell_box()` with a box filter (tools/bench/cornell_throughput.py).
+
 Run by bench.py and error_time.py, one process per (variant, thread count): Dr.Jit fixes its
 backend per process, and a fresh process makes the peak RSS that the caller reads with wait4()
 this render's own. EXPORT_DIR is `prism export SCENE.ron -o EXPORT_DIR`; the scene dict comes from
@@ -45,6 +53,7 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--sampler", help="Mitsuba sampler plugin instead of the export's (e.g. ldsampler)")
     ap.add_argument("--save-exr", type=pathlib.Path, help="write the last render's RGB here")
+    ap.add_argument("--serve", action="store_true", help="render once per seed read from stdin (see above)")
     args = ap.parse_args()
 
     import drjit as dr
@@ -58,7 +67,12 @@ def main() -> None:
     if not ladder and not args.spp:
         ap.error("give --spp or --ladder")
     t0 = time.perf_counter()
-    scene_dict = convert(load(args.export_dir / "scene.json"), spp=args.spp or ladder[0], seed=args.seed)
+    if str(args.export_dir) == "cornell_box":
+        scene_dict = mi.cornell_box()
+        scene_dict["sensor"]["film"]["rfilter"] = {"type": "box"}
+        scene_dict["sensor"]["sampler"]["sample_count"] = args.spp or ladder[0]
+    else:
+        scene_dict = convert(load(args.export_dir / "scene.json"), spp=args.spp or ladder[0], seed=args.seed)
     if args.sampler:
         scene_dict["sensor"]["sampler"]["type"] = args.sampler
     scene = mi.load_dict(scene_dict)
@@ -87,6 +101,10 @@ def main() -> None:
         return
 
     np.asarray(mi.render(scene, spp=args.spp, seed=args.seed + 1000))  # warm-up
+    film = scene.sensors()[0].film().size()
+    if args.serve:
+        serve(scene, args, dr.thread_count(), (int(film[0]), int(film[1])), load_s)
+        return
     times = []
     img = None
     for k in range(args.repeats):
@@ -95,7 +113,6 @@ def main() -> None:
         times.append(time.perf_counter() - t)
     if args.save_exr:
         mi.Bitmap(img[..., :3]).write(str(args.save_exr))
-    film = scene.sensors()[0].film().size()
     print(json.dumps({
         "variant": args.variant,
         "threads": dr.thread_count(),
@@ -105,6 +122,24 @@ def main() -> None:
         "load_s": load_s,
         "render_s": times,
     }))
+
+
+def serve(scene, args, threads: int, size: tuple[int, int], load_s: float) -> None:
+    """The `--serve` loop: one timed render per stdin line (a seed); with --save-exr, each
+    render's RGB overwrites that file (the caller compares the last one)."""
+    import mitsuba as mi
+    import numpy as np
+
+    print(json.dumps({"ready": True, "variant": args.variant, "threads": threads, "width": size[0],
+                      "height": size[1], "spp": args.spp, "load_s": load_s}), flush=True)
+    for line in sys.stdin:
+        seed = int(line)
+        t = time.perf_counter()
+        img = np.asarray(mi.render(scene, spp=args.spp, seed=seed))
+        seconds = time.perf_counter() - t
+        if args.save_exr:
+            mi.Bitmap(img[..., :3]).write(str(args.save_exr))
+        print(json.dumps({"render_s": seconds, "seed": seed}), flush=True)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,10 @@
 # counts are deterministic, so they compare builds and backends on a noisy or shared machine where
 # timings cannot (and they need no hardware counters, which VMs often lack).
 #
-#   tools/bench/profile.sh [SCENE.ron] [SPP] [ACCEL]      # defaults: scenes/cornell.ron 1 bvh
+#   tools/bench/profile.sh [SCENE.ron] [SPP] [ACCEL] [SIMD]   # defaults: scenes/cornell.ron 1 bvh auto
+#
+# SIMD is `--simd`: auto (the packet kernel), off (the scalar integrator), 1, 4, 8, 16; a value
+# other than auto is added to the output names.
 #
 # Uses $PRISM, default target/release/prism, as built (for ACCEL=embree, a build with
 # --features embree, e.g. PRISM=target/embree/release/prism).
@@ -16,12 +19,14 @@ cd "$(dirname "$0")/../.."
 scene=${1:-scenes/cornell.ron}
 spp=${2:-1}
 accel=${3:-bvh}
+simd=${4:-auto}
 name=$(basename "$scene" .ron)
+if [ "$simd" != auto ]; then name="${name}_simd_$simd"; fi
 out=out/bench/profile
 mkdir -p "$out"
 cg="$out/${name}_${accel}.callgrind"
 cmd=(valgrind --tool=callgrind --callgrind-out-file="$cg" '--toggle-collect=prism::integrator::render*'
-     "${PRISM:-target/release/prism}" render "$scene" -o "$out/${name}.exr" --spp "$spp" --threads 1 -q --accel "$accel")
+     "${PRISM:-target/release/prism}" render "$scene" -o "$out/${name}.exr" --spp "$spp" --threads 1 -q --accel "$accel" --simd "$simd")
 echo "\$ ${cmd[*]}"
 "${cmd[@]}" 2>&1 | grep -E "rendered|refs" || true
 report="$out/${name}_${accel}.txt"

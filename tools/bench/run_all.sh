@@ -9,6 +9,8 @@
 #   2. tools/bench/error_time.py   relMSE against time, prism variants and Mitsuba, equal-error speedups
 #   3. cargo bench --bench traversal   BVH vs Embree rays/s, 20k and 1M triangles
 #   4. tools/bench/profile.sh      callgrind instruction profile of the Cornell box (BVH and Embree)
+#                                  and of scenes/bench/metals, glass, plastics (packet and scalar)
+# For issue 26 item 4 on a busy machine, tools/bench/versus_mitsuba.sh runs a smaller set.
 # Uses tools/.venv (made by tools/run_tests.sh) for Python, and Embree when libembree-dev is
 # installed. Run it on a quiet machine: the figures are only as good as the machine is idle.
 set -euo pipefail
@@ -43,6 +45,11 @@ cargo bench --quiet --bench traversal "${features[@]}" -- "${quick[@]}" | tee "$
 echo "== 4. profile"
 cargo build --release --quiet
 tools/bench/profile.sh scenes/cornell.ron 1 bvh | tee "$out/profile_cornell_bvh.txt"
+for s in metals glass plastics; do
+    for simd in auto off; do
+        tools/bench/profile.sh "scenes/bench/$s.ron" 1 bvh "$simd" | tee "$out/profile_${s}_$simd.txt"
+    done
+done
 if [ ${#features[@]} -gt 0 ]; then
     cargo build --release --quiet "${features[@]}" --target-dir target/embree
     PRISM=target/embree/release/prism tools/bench/profile.sh scenes/cornell.ron 1 embree | tee "$out/profile_cornell_embree.txt"

@@ -1,5 +1,7 @@
-"""The benchmark tools' own logic: the generated mesh, prism's summary line, and the error-time
-fits (the timings themselves are measured by tools/bench/run_all.sh, never in tests)."""
+"""The benchmark tools' own logic: the generated mesh, prism's summary line, the error-time
+fits, the interleaved rounds and their ratios, the image agreement check, and the dataset
+benchmark's config rewriting (the timings themselves are measured by tools/bench/run_all.sh,
+never in tests)."""
 
 from __future__ import annotations
 
@@ -11,8 +13,10 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "bench"))
 import common  # noqa: E402
+import dataset_bench  # noqa: E402
 import error_time  # noqa: E402
 import make_mesh  # noqa: E402
+import rounds  # noqa: E402
 
 
 def test_mesh_is_closed_outward_and_big_enough(tmp_path):
@@ -75,3 +79,48 @@ def test_speedup_reads_off_the_fits():
     sp = {r["renderer"]: r for r in error_time.speedups(rows, "s")}
     assert abs(sp["prism"]["speedup_of_prism"] - 1.0) < 1e-9
     assert abs(sp["other"]["speedup_of_prism"] - 2.0) < 1e-9
+
+
+def test_rounds_rotate_the_order_and_pair_ratios_by_round(monkeypatch):
+    order = []
+
+    def runner(name, speed):
+        def run(seed):
+            order.append((name, seed))
+            return {"render_s": 1.0 / speed[seed - 1], "msamples_per_s": speed[seed - 1]}
+        return run
+
+    monkeypatch.setattr(rounds, "log", lambda _msg: None)
+    # B is twice A in every round while the machine's speed drifts 3x between rounds: the
+    # same-round ratio is exactly 2, the ratio of medians need not be.
+    runs = rounds.run_rounds({"a": runner("a", [1.0, 3.0, 2.0]), "b": runner("b", [2.0, 6.0, 4.0])}, 3)
+    assert order == [("a", 1), ("b", 1), ("b", 2), ("a", 2), ("a", 3), ("b", 3)]
+    s = rounds.summary(runs, [("b", "a"), ("b", "missing")])
+    assert s["renderers"]["a"] == {"median": 2.0, "min": 1.0, "max": 3.0, "n": 3}
+    assert s["ratios"]["b / a"]["all"] == [2.0, 2.0, 2.0]
+    assert list(s["ratios"]) == ["b / a"]
+    assert "load average" in rounds.markdown("t", s)[2].lower()
+
+
+def test_agreement_tells_noise_from_a_different_image():
+    rng = np.random.default_rng(1)
+    truth = np.tile(np.linspace(0.1, 1.0, 64), (48, 1))[..., None].repeat(3, axis=2)
+    a = truth + rng.normal(0, 0.3, truth.shape)
+    b = truth + rng.normal(0, 0.3, truth.shape)
+    same = rounds.agreement(a, b)
+    assert abs(same["z_image"]) < 4 and same["max_abs_z_block"] < 5 and same["blocks"] == 12
+    # 10% brighter everywhere: the difference's noise is 0.3·√2/√3 per pixel, its standard
+    # error over 3072 pixels 0.0044, the shift 0.055: about 12 standard errors.
+    other = rounds.agreement(a * 1.1, b)
+    assert other["z_image"] > 8 and abs(other["mean_ratio"] - 1.1) < 0.01
+
+
+def test_dataset_config_is_made_absolute_and_resized(tmp_path):
+    root = pathlib.Path(__file__).resolve().parents[2]
+    for base in (None, root / "configs/datasets/tabletop.ron"):
+        text = dataset_bench.config(tmp_path, 5, 32, 2, base).read_text()
+        assert "frames: 5," in text and "spp: 2, resolution: (32, 32)" in text
+        assert f'"{root}/configs/datasets/scenes/tabletop.ron"' in text
+        assert f'"{root}/scenes/textures/sky.exr"' in text
+    kept = dataset_bench.config(tmp_path, 5, 0, 0, root / "configs/datasets/tabletop.ron").read_text()
+    assert "spp: 32, resolution: (160, 120)" in kept
