@@ -8,7 +8,7 @@
 //!   `expect` file names.
 //! - `fixed_seed_sample`: 5000 cases in-process (`prism::cli::run`, panics caught) and every
 //!   tenth of them also through the binary under `prlimit --as` with a time bound.
-//! - `dataset_fixed_seed_sample`: every dataset seed as it is, then 300 dataset cases (a
+//! - `dataset_fixed_seed_sample`: every dataset seed as it is, then 40 dataset cases (a
 //!   mutated config run by `prism dataset` into a folder in a hostile state) in-process, every
 //!   fifth also through the binary.
 
@@ -183,7 +183,7 @@ fn fixed_seed_sample() {
     eprintln!("{ok} rendered, {refused} refused");
 }
 
-const DATASET_CASES: u64 = 300;
+const DATASET_CASES: u64 = 40;
 const DATASET_SEED: u64 = 27;
 
 #[test]
@@ -257,6 +257,6 @@ fn dataset_fixed_seed_sample() {
     assert!(f.is_empty(), "{} failing cases:\n{}", f.len(), f.join("\n"));
     let [ok, refused] = counts.into_inner().unwrap();
     // Both outcomes occur: the sample runs datasets, not only the config parser.
-    assert!(ok > 30 && refused > 30, "{ok} ran, {refused} refused");
+    assert!(ok > 5 && refused > 5, "{ok} ran, {refused} refused");
     eprintln!("{ok} ran, {refused} refused");
 }

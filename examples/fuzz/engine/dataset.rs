@@ -30,14 +30,14 @@ const VARIANTS: &[(&str, &str)] = &[
     ("shell", "camera: (look_at: Shell(target: (0, 0.8, 0), radius: (2, 4), elevation: (5, 60), azimuth: (0, 360)), roll: 10, keep_in_view: [\"ball\"], max_attempts: 20),"),
     ("lights", "lights: [(target: \"lamp\", intensity: (1, 10), illuminants: [\"D65\", \"A\", \"F2\"]), (target: \"emitters[0]\", intensity: (0.1, 2))],"),
     ("temperature", "lights: [(target: \"lamp\", intensity: (2, 8), temperature: (2000, 9000))],"),
-    ("envmap", "envmap: (target: \"emitters[0]\", files: [\"@REPO@/scenes/textures/sky.exr\", \"@REPO@/scenes/textures/grid.png\"], rotate: false),"),
+    ("envmap", "envmap: (target: \"emitters[0]\", files: [\"@REPO@/scenes/textures/sky.exr\"], rotate: false),"),
     ("sensor", "outputs: (spp: 1, resolution: (8, 6), aovs: [\"depth\", \"instance\", \"label\"], sensors: [(name: \"nikon\", sensor: File(\"@REPO@/configs/sensors/nikon_d810.ron\"))]), sensor: (files: [\"@REPO@/configs/sensors/cie1931.ron\", \"@REPO@/configs/sensors/raw_rggb.ron\"], exposure: (-2, 2)),"),
     ("materials", "materials: [(target: \"glass\", ior: (1.3, 1.9)), (target: \"rough\", roughness: (0.01, 0.5)), (target: \"paint\", reflectance: Library(\"cie1995_tcs\")), (target: \"plastic\", reflectance: Library(\"colorchecker\"), roughness: (0.05, 0.3))],"),
     ("objects", "splits: {\"train\": (0, 1), \"val\": (1, 2)}, swaps: [(shape: \"ball\", materials: [\"paint\", \"glass\", \"rough\"])], objects: (subsets: [(shapes: [\"ball\", \"box\"], shown: (0, 2))], place: (support: \"table\", shapes: [\"ball\", \"box\"], yaw: (0, 360), scale: (0.5, 1.5), gap: 0.01, max_attempts: 50)),"),
 ];
 
 /// The dataset seeds: configs/datasets/*.ron over their base scene (paths made `@REPO@/...`,
-/// 2 frames of 8×6 at 1 spp) and the variants over `SMALL`.
+/// frames of 8×6 at 1 spp) and the variants over `SMALL`.
 pub fn dataset_seeds(repo: &Path) -> Vec<DatasetSeed> {
     let dir = repo.join("configs/datasets");
     let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -86,10 +86,10 @@ pub fn dataset_seeds(repo: &Path) -> Vec<DatasetSeed> {
     out
 }
 
-/// 2 frames of 8×6 at 1 spp: a case renders in milliseconds.
+/// Frames of 8×6 at 1 spp: a case renders in milliseconds. The frame count stays (splits
+/// refer to it); a case selects frames 0 and 1 (`--frames 0..2`).
 fn small(t: &str) -> String {
-    let mut t = set_number(t, "frames", "2");
-    t = set_number(&t, "spp", "1");
+    let mut t = set_number(t, "spp", "1");
     if let Some(i) = t.find("resolution: (") {
         if let Some(j) = t[i..].find(')') {
             t.replace_range(i..i + j + 1, "resolution: (8, 6)");
