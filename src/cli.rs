@@ -200,7 +200,11 @@ where
 
 fn render(args: &RenderArgs) -> Result<(), Error> {
     if args.spp == Some(0) {
-        return Err(crate::error::InputError::new(&args.scene, "--spp must be at least 1").into());
+        return Err(
+            crate::error::InputError::new(&args.scene, "--spp must be at least 1")
+                .hint("give a positive number of samples per pixel (--spp 16), or leave --spp out for the scene's sampler.spp")
+                .into(),
+        );
     }
     let pool = worker_pool(args.workers.threads, &args.scene)?;
     if let Err(why) = args.simd.check() {

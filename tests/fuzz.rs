@@ -8,6 +8,9 @@
 //!   `expect` file names.
 //! - `fixed_seed_sample`: 5000 cases in-process (`prism::cli::run`, panics caught) and every
 //!   tenth of them also through the binary under `prlimit --as` with a time bound.
+//! - `dataset_fixed_seed_sample`: every dataset seed as it is, then 40 dataset cases (a
+//!   mutated config run by `prism dataset` into a folder in a hostile state) in-process, every
+//!   fifth also through the binary.
 
 #[path = "../examples/fuzz/engine/mod.rs"]
 mod engine;
@@ -112,8 +115,7 @@ fn corpus_replays() {
     let dir = work("corpus");
     for d in dirs {
         let case = engine::load_corpus_case(&d);
-        let scene = engine::materialise(&case, &dir, &repo());
-        let (v, err) = engine::run_binary(&bin(), &scene, &dir, &LIMITS);
+        let (v, err) = engine::run_case_binary(&bin(), &case, &dir, &repo(), &LIMITS);
         assert!(v.is_ok(), "{}: {v:?}\n{err}", d.display());
         if let Ok(expect) = std::fs::read_to_string(d.join("expect")) {
             let mut lines = expect.lines();
@@ -179,4 +181,82 @@ fn fixed_seed_sample() {
         "{ok} rendered, {refused} refused"
     );
     eprintln!("{ok} rendered, {refused} refused");
+}
+
+const DATASET_CASES: u64 = 40;
+const DATASET_SEED: u64 = 27;
+
+#[test]
+fn dataset_fixed_seed_sample() {
+    let seeds = engine::load_seeds(&repo());
+    assert!(
+        seeds.datasets.len() >= 10,
+        "{} dataset seeds",
+        seeds.datasets.len()
+    );
+    engine::install_panic_hook();
+    // Each seed as it is, into a new folder, renders: the cases mutate working configs.
+    let dir = work("dataset-seeds");
+    for (k, s) in seeds.datasets.iter().enumerate() {
+        let case = engine::Case {
+            index: k as u64,
+            what: s.name.clone(),
+            scene: s.scene.clone(),
+            file: None,
+            dataset: Some(engine::DatasetCase {
+                config: s.config.clone(),
+                prime_config: s.config.clone(),
+                prime_scene: s.scene.clone(),
+                state: engine::OutState::Absent,
+                flags: vec![],
+            }),
+        };
+        let (v, err) = engine::run_case_binary(&bin(), &case, &dir, &repo(), &LIMITS);
+        assert_eq!(v, Verdict::Ok(0), "seed {}: {err}", s.name);
+    }
+    let jobs = 2;
+    let failures = std::sync::Mutex::new(Vec::new());
+    let counts = std::sync::Mutex::new([0u64; 2]);
+    std::thread::scope(|sc| {
+        for j in 0..jobs {
+            let (seeds, failures, counts) = (&seeds, &failures, &counts);
+            sc.spawn(move || {
+                let dir = work(&format!("dataset{j}"));
+                for k in (j..DATASET_CASES).step_by(jobs as usize) {
+                    let case = engine::make_dataset_case(seeds, DATASET_SEED, k);
+                    let mut vs = vec![(
+                        engine::run_case_in_process(&case, &dir, &repo(), &LIMITS),
+                        String::new(),
+                    )];
+                    if k % 5 == 0 {
+                        vs.push(engine::run_case_binary(
+                            &bin(),
+                            &case,
+                            &dir,
+                            &repo(),
+                            &LIMITS,
+                        ));
+                    }
+                    for (v, err) in vs {
+                        if let Verdict::Ok(c) = v {
+                            counts.lock().unwrap()[(c == 2) as usize] += 1;
+                        } else {
+                            failures
+                                .lock()
+                                .unwrap()
+                                .push(format!("case {k} ({}): {v:?}\n{err}", case.what));
+                        }
+                    }
+                }
+                let _ = std::fs::remove_dir_all(&dir);
+            });
+        }
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let f = failures.into_inner().unwrap();
+    assert!(f.is_empty(), "{} failing cases:\n{}", f.len(), f.join("\n"));
+    let [ok, refused] = counts.into_inner().unwrap();
+    // Both outcomes occur: the sample runs datasets, not only the config parser.
+    assert!(ok > 5 && refused > 5, "{ok} ran, {refused} refused");
+    eprintln!("{ok} ran, {refused} refused");
 }

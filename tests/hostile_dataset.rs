@@ -125,6 +125,25 @@ fn forged_manifest_lines_do_not_count_as_done() {
             "{what}: {out}"
         );
     }
+    // Frame 99 of 2, its files copies of frame 0's: not a frame of this dataset, so not done,
+    // and a resume drops its line (a reader of the manifest would count it).
+    for e in ["exr", "json"] {
+        std::fs::copy(
+            d.join(format!("out/frames/000000.{e}")),
+            d.join(format!("out/frames/000099.{e}")),
+        )
+        .unwrap();
+    }
+    let past = line0
+        .replacen("\"frame\":0", "\"frame\":99", 1)
+        .replace("frames/000000.", "frames/000099.");
+    std::fs::write(&m, format!("{line0}{past}")).unwrap();
+    let out = check("frame 99 of 2");
+    assert!(out.contains("\"done\":[0]"), "{out}");
+    let o = dataset(&d, "ds.ron", "out", &["--frames", "0"]);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    let kept = std::fs::read_to_string(&m).unwrap();
+    assert!(!kept.contains("\"frame\":99"), "frame 99 of 2 kept: {kept}");
     // An invalid-UTF-8 line is skipped, frame 0 stays done.
     let mut bytes = line0.clone().into_bytes();
     bytes.extend_from_slice(b"{\"frame\":1,\xff\xfe}\n");
@@ -242,5 +261,145 @@ fn unbounded_draws_duplicate_placements_and_band_lists_are_refused() {
         &["dataset.json", "not prism's"],
     );
     assert!(!stderr(&o2).contains(": null →"), "{}", stderr(&o2));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Every variation's whole range is checked against the scene at load (so at `--check`) and
+/// before any frame: each value some frame could draw that the scene refuses is exit 2 naming
+/// the dataset config's field, and the output folder is not made (before: OUT claimed, then
+/// every frame exit 1 blaming the base scene).
+#[test]
+fn variation_extremes_the_scene_refuses_are_refused_before_any_frame() {
+    let d = workdir("dsextremes");
+    let scene = SCENE
+        .replace(
+            "materials: {\"m\": Diffuse()}",
+            "materials: {\"m\": Diffuse(), \"glass\": Dielectric(int_ior: 1.5)}",
+        )
+        .replace(
+            "emitters: [Constant(radiance: Named(\"D65\"))]",
+            "emitters: [Constant(radiance: Named(\"D65\")), Envmap(filename: \"sky.exr\")]",
+        );
+    std::fs::write(d.join("s.ron"), scene).unwrap();
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/textures/sky.exr"),
+        d.join("sky.exr"),
+    )
+    .unwrap();
+    let shell = |target: &str, radius: &str, up: &str, el: &str, az: &str| {
+        format!("camera: (look_at: Shell(target: {target}, radius: {radius}, elevation: {el}, azimuth: {az}), up: {up}),")
+    };
+    let cases = [
+        (
+            "degenerate pose",
+            "camera: (look_at: Poses([(origin: (0, 1, 4), target: (0, 1, 4))])),".to_string(),
+            "camera.look_at[0]",
+        ),
+        (
+            "up along the view",
+            shell("(0, 0, 0)", "(5, 5)", "(0, 0, 1)", "(-10, 10)", "(-10, 10)"),
+            "camera.up",
+        ),
+        (
+            "NaN target",
+            shell("(NaN, 0, 0)", "(5, 5)", "(0, 1, 0)", "(10, 20)", "(0, 90)"),
+            "camera.look_at.target",
+        ),
+        (
+            "radius 1e30",
+            shell("(0, 0, 0)", "(5, 1e30)", "(0, 1, 0)", "(10, 20)", "(0, 90)"),
+            "camera.look_at.radius",
+        ),
+        (
+            "intensity 3e38",
+            "lights: [(target: \"emitters[0]\", intensity: (1, 3e38))],".into(),
+            "lights[0].intensity",
+        ),
+        (
+            "an envmap file that is not one",
+            "envmap: (target: \"emitters[1]\", files: [\"s.ron\"]),".into(),
+            "envmap.files[0]",
+        ),
+        (
+            "IOR the scene refuses",
+            "materials: [(target: \"glass\", ior: (0.001, 1.5))],".into(),
+            "materials[0].ior",
+        ),
+        (
+            "resolution 32768²",
+            "outputs: (spp: 1, resolution: (32768, 32768)),".into(),
+            "outputs.resolution",
+        ),
+    ];
+    for (k, (what, extra, field)) in cases.iter().enumerate() {
+        let text = if extra.starts_with("outputs:") {
+            format!("(scene: \"s.ron\", frames: 2, seed: 1, {extra})")
+        } else {
+            DATASET.replacen("outputs:", &format!("{extra} outputs:"), 1)
+        };
+        let cfg = format!("x{k}.ron");
+        std::fs::write(d.join(&cfg), text).unwrap();
+        let out = format!("o{k}");
+        let o = dataset(&d, &cfg, &out, &["--check"]);
+        refused(&o, what, &[&cfg, field]);
+        assert!(!d.join(&out).exists(), "{what}: the output folder was made");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `--force` of config Y into a folder config X is still writing is refused while X's run
+/// holds it (before: Y started over and X's later frames were listed under Y); once X has
+/// ended, `--force` starts over.
+#[test]
+fn force_into_a_folder_another_run_is_writing_is_refused() {
+    let d = workdir("dsforce");
+    std::fs::write(
+        d.join("s.ron"),
+        SCENE
+            .replace("spp: 1", "spp: 4096")
+            .replace("width: 8, height: 6", "width: 128, height: 96"),
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("x.ron"),
+        "(scene: \"s.ron\", frames: 50, seed: 1, outputs: (spp: 256, resolution: (128, 96)))",
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("y.ron"),
+        DATASET
+            .replace("s.ron", "s.ron")
+            .replace("seed: 1", "seed: 2"),
+    )
+    .unwrap();
+    let mut x = prism()
+        .current_dir(&d)
+        .args(["dataset", "x.ron", "-o", "out", "--quiet", "--threads", "1"])
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let t = Instant::now();
+    while !d.join("out/frames").exists() && t.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let o = dataset(&d, "y.ron", "out", &["--force", "--check"]);
+    // SAFETY: signals our own child by its pid.
+    unsafe { libc::kill(x.id() as i32, libc::SIGTERM) };
+    let _ = x.wait();
+    refused(
+        &o,
+        "--force under a running run",
+        &["--force", "another `prism dataset` run"],
+    );
+    let identity = std::fs::read_to_string(d.join("out/dataset.json")).unwrap();
+    assert!(
+        identity.contains("\"seed\": 1"),
+        "X's identity replaced:\n{identity}"
+    );
+    // X has ended: --force starts Y over.
+    let o = dataset(&d, "y.ron", "out", &["--force", "--check"]);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    let identity = std::fs::read_to_string(d.join("out/dataset.json")).unwrap();
+    assert!(identity.contains("\"seed\": 2"), "{identity}");
     let _ = std::fs::remove_dir_all(&d);
 }

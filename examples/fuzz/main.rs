@@ -9,8 +9,10 @@
 //! `--binary-every`-th case also runs the `prism` binary under `prlimit --as` with a time bound
 //! (hangs, memory, signals, exit codes as a user sees them). Failing cases are saved under
 //! `--out`/findings as regression-corpus directories (tests/fuzz_corpus/ takes them as they are).
-//! If the fuzzer itself dies (an in-process allocation failure aborts it), `--out`/workJ/case
+//! If the fuzzer itself dies (an in-process allocation failure aborts it), `--out`/workJ.case
 //! names the case job J was running: rerun it alone with `--start K --cases 1 --jobs 1`.
+//! Every `--dataset-every`-th case (default 5; 0: none) runs `prism dataset` on a mutated
+//! dataset config into an output folder in a hostile state (engine/dataset.rs).
 
 #[path = "engine/mod.rs"]
 mod engine;
@@ -26,6 +28,7 @@ fn main() {
     let mut seed: u64 = 1;
     let mut jobs: u64 = 2;
     let mut every: u64 = 20;
+    let mut dataset_every: u64 = 5;
     let mut start: u64 = 0;
     let mut out = PathBuf::from("out/fuzz");
     let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
@@ -40,6 +43,7 @@ fn main() {
             "--jobs" => jobs = v.parse().expect("--jobs N"),
             "--binary-every" => every = v.parse().expect("--binary-every N (0: never)"),
             "--start" => start = v.parse().expect("--start N"),
+            "--dataset-every" => dataset_every = v.parse().expect("--dataset-every N (0: never)"),
             "--out" => out = PathBuf::from(v),
             "--bin" => bin = PathBuf::from(v),
             other => panic!("unknown argument {other}"),
@@ -48,9 +52,10 @@ fn main() {
     }
     let seeds = engine::load_seeds(&repo);
     println!(
-        "fuzz: {} seed scenes, {} seed files; cases {start}..{}, seed {seed}, {jobs} jobs, binary every {every}",
+        "fuzz: {} seed scenes, {} seed files, {} dataset seeds; cases {start}..{}, seed {seed}, {jobs} jobs, binary every {every}, dataset every {dataset_every}",
         seeds.scenes.len(),
         seeds.files.len(),
+        seeds.datasets.len(),
         start + cases
     );
     engine::install_panic_hook();
@@ -80,16 +85,28 @@ fn main() {
                     if k >= start + cases {
                         break;
                     }
-                    let case = engine::make_case(seeds, seed, k);
-                    let scene = engine::materialise(&case, &dir, repo);
+                    // Every `dataset_every`-th case (k ≡ 3) runs `prism dataset`, the others
+                    // `prism render` as before (their cases unchanged); the dataset cases
+                    // take their turn through the binary among themselves.
+                    let ds = dataset_every > 0 && k % dataset_every == 3 % dataset_every;
+                    let (case, nth) = if ds {
+                        (engine::make_dataset_case(seeds, seed, k), k / dataset_every)
+                    } else {
+                        (engine::make_case(seeds, seed, k), k)
+                    };
                     // An in-process case that kills the fuzzer itself (an allocation failure
                     // aborts, the OOM killer) leaves no finding: this file names it instead.
-                    let _ = std::fs::write(dir.join("case"), format!("{k}\n{}\n", case.what));
-                    let mut verdicts =
-                        vec![(engine::run_in_process(&scene, &dir, &LIMITS), String::new())];
-                    if every > 0 && k % every == 0 {
-                        let scene = engine::materialise(&case, &dir, repo);
-                        verdicts.push(engine::run_binary(bin, &scene, &dir, &LIMITS));
+                    let _ = std::fs::create_dir_all(&dir);
+                    let _ = std::fs::write(
+                        out.join(format!("work{j}.case")),
+                        format!("{k}\n{}\n", case.what),
+                    );
+                    let mut verdicts = vec![(
+                        engine::run_case_in_process(&case, &dir, repo, &LIMITS),
+                        String::new(),
+                    )];
+                    if every > 0 && nth % every == 0 {
+                        verdicts.push(engine::run_case_binary(bin, &case, &dir, repo, &LIMITS));
                         binary_runs.fetch_add(1, Ordering::Relaxed);
                     }
                     for (v, err) in verdicts {

@@ -164,7 +164,7 @@ impl Scene {
     }
 
     /// The closest hits of rays from `o` along `d` (each (M, 3); `d` is normalised, and a zero
-    /// or non-finite ray misses).
+    /// or non-finite ray, or one from beyond the scenes' extent limit of 1e18, misses).
     fn intersect(
         &self,
         py: Python<'_>,
@@ -182,7 +182,13 @@ impl Scene {
                 .zip(&d)
                 .map(|(&o, &d)| {
                     let d = d.normalize_or_zero();
-                    let ok = d != Vec3::ZERO && o.is_finite();
+                    // Only rays a scene can hold reach the traversal: a NaN or a coordinate
+                    // past the loader's extent limit would make NaN slab tests (issue 27).
+                    let far = prism_core::load::extent::MAX_COORD;
+                    let ok = d.is_finite()
+                        && d != Vec3::ZERO
+                        && o.is_finite()
+                        && o.abs().max_element() <= far;
                     Hit {
                         o,
                         d,

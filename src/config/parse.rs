@@ -17,19 +17,20 @@ pub fn parse_str(text: &str, file: &Path) -> Result<SceneConfig, InputError> {
             Some((m, h)) => (m, Some(h)),
             None => (e.code.to_string(), hint_for(&e.code)),
         };
-        let mut err = InputError::new(file, message).at(line, col);
-        if let Some(h) = hint {
-            err = err.hint(h);
-        }
-        err
+        let hint = hint.unwrap_or_else(|| {
+            "scenes/README.md documents every field of a scene file".to_string()
+        });
+        InputError::new(file, message).at(line, col).hint(hint)
     })
 }
 
 /// Reads and parses a scene file.
 pub fn parse_file(path: &Path) -> Result<SceneConfig, Error> {
     crate::io::inputs::record(path);
-    let bytes = crate::io::input_file::read(path, crate::io::input_file::Kind::Scene)
-        .map_err(|m| InputError::new(path, m))?;
+    let bytes =
+        crate::io::input_file::read(path, crate::io::input_file::Kind::Scene).map_err(|m| {
+            InputError::new(path, m).hint("give the path of a scene file (RON, or glTF 2.0)")
+        })?;
     let text = utf8(bytes, path)?;
     Ok(parse_str(&text, path)?)
 }

@@ -2,6 +2,7 @@
 //! in the config can trip (names the scene lacks, inverted ranges), made before any frame.
 
 mod check;
+mod extremes;
 
 use super::config::{DatasetConfig, Range};
 use crate::config::sensor::{SensorField, SensorFile};
@@ -172,6 +173,7 @@ impl Base {
         let o = &base.config.outputs;
         base.sheet_layers =
             super::sheet_layers::check(&base.file, &o.sheet_layers, &base.scene.aovs, o.preview)?;
+        base.check_extremes()?;
         base.envmap_warnings()?;
         let mut lit = super::illuminant_files::paths(&base);
         lit.extend(super::textures::paths(&base.textures));
@@ -184,7 +186,12 @@ impl Base {
     }
 
     pub(crate) fn err(&self, field: &str, message: impl Into<String>) -> InputError {
-        InputError::new(&self.file, message).field(field)
+        // A caller's own hint replaces this pointer to the field's documentation.
+        InputError::new(&self.file, message)
+            .field(field)
+            .hint(format!(
+                "configs/README.md documents `{field}` and its values"
+            ))
     }
 
     /// The index of the shape called `name`.
@@ -316,10 +323,23 @@ impl Base {
             cfg.shapes.clear();
             cfg.aovs.clear();
             cfg.labels.clear();
-            if let crate::config::EmitterConfig::Envmap { filename, .. } = &mut cfg.emitters[k] {
+            // At the largest intensity the light variations give it (extremes.rs).
+            let most = self.max_intensity(k);
+            if let crate::config::EmitterConfig::Envmap {
+                filename, scale, ..
+            } = &mut cfg.emitters[k]
+            {
                 *filename = super::plan::absolute(&dir.join(&f));
+                *scale *= most;
             }
-            let job = crate::load::build(cfg, &self.scene_file)?;
+            let job = crate::load::build(cfg, &self.scene_file).map_err(|e| {
+                let at = e.field.map_or(String::new(), |x| format!("{x}: "));
+                self.err(
+                    &format!("envmap.files[{i}]"),
+                    format!("`{f}` (at intensity {most}) is refused as the scene's environment map: {at}{}", e.message),
+                )
+                .hint(e.hint.unwrap_or_else(|| "list environment maps (EXR or PNG images) the scene can take".into()))
+            })?;
             let named =
                 |w: String| format!("{}: envmap.files[{i}] `{f}`: {w}", self.file.display());
             let warnings = job.warnings.into_iter().map(named).collect();

@@ -66,7 +66,11 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
 }
 
 fn arg_error(config: &Path, field: &str, message: impl Into<String>) -> Error {
-    InputError::new(config, message).field(field).into()
+    // A caller's own hint (`with_hint`) replaces this one.
+    InputError::new(config, message)
+        .field(field)
+        .hint(format!("`prism dataset --help` describes {field}"))
+        .into()
 }
 
 /// `17` → (17, 18); `10..20` → (10, 20).

@@ -10,6 +10,9 @@
 //! every listed file in full.
 
 use crate::error::{Error, InputError};
+
+mod claim;
+pub use claim::Hold;
 use fs4::fs_std::FileExt;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -19,7 +22,7 @@ use std::path::{Path, PathBuf};
 
 pub const DATASET_JSON: &str = "dataset.json";
 pub const MANIFEST: &str = "manifest.jsonl";
-const LOCK: &str = ".prism-dataset.lock";
+pub(crate) const LOCK: &str = ".prism-dataset.lock";
 
 /// One finished frame, as a manifest line.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -47,6 +50,8 @@ pub struct Out {
     pub root: PathBuf,
     /// Read every listed file in full (`--verify`) rather than trust sizes and mtimes.
     pub verify: bool,
+    /// The dataset's frame count: a line of a frame at or past it is not a finished frame.
+    pub frames: u32,
     /// The files this process has hashed: path → (size, mtime, SHA-256), reused while the
     /// size and mtime stay.
     hashed: std::sync::Mutex<BTreeMap<PathBuf, Hashed>>,
@@ -73,6 +78,7 @@ impl Out {
         Out {
             root,
             verify,
+            frames: u32::MAX,
             hashed: Default::default(),
         }
     }
@@ -138,103 +144,6 @@ impl Out {
         Ok(Lock(f))
     }
 
-    /// Makes the folder hold `identity` (`{prism_version, config, scene, hash}`): a new or empty
-    /// folder gets it; one holding the same dataset is resumed; one holding another dataset is
-    /// refused naming what changed, unless `force`, which starts the dataset over there.
-    pub fn prepare(&self, identity: &Value, force: bool, config_file: &Path) -> Result<(), Error> {
-        if std::fs::symlink_metadata(&self.root).is_ok_and(|m| !m.is_dir()) {
-            return Err(folder_error(
-                &self.root,
-                "the output folder is not a directory".into(),
-            ));
-        }
-        std::fs::create_dir_all(&self.root).map_err(|e| {
-            folder_error(&self.root, format!("cannot create the output folder: {e}"))
-        })?;
-        for (name, dir) in [(MANIFEST, false), ("frames", true), (DATASET_JSON, false)] {
-            let p = self.root.join(name);
-            if std::fs::symlink_metadata(&p)
-                .is_ok_and(|m| m.is_dir() != dir || m.file_type().is_symlink())
-            {
-                let what = if dir { "a directory" } else { "a regular file" };
-                return Err(folder_error(
-                    &p,
-                    format!("`{name}` in the output folder is not {what}"),
-                ));
-            }
-        }
-        let _lock = self.lock()?;
-        let path = self.root.join(DATASET_JSON);
-        let text = serde_json::to_string_pretty(identity).expect("JSON values serialise") + "\n";
-        if path.is_file() {
-            let old: Value = std::fs::read_to_string(&path)
-                .ok()
-                .and_then(|t| serde_json::from_str(&t).ok())
-                .unwrap_or(Value::Null);
-            if old.get("hash") == identity.get("hash")
-                && old.get("prism_version") == identity.get("prism_version")
-            {
-                return self.compact();
-            }
-            if !force {
-                if !old.is_object() {
-                    return Err(InputError::new(
-                        config_file,
-                        format!(
-                            "the output folder `{}` has a {DATASET_JSON} that is not prism's (it does not parse as one)",
-                            self.root.display()
-                        ),
-                    )
-                    .field("-o")
-                    .hint("choose a new output folder, or pass --force to start this dataset over in it")
-                    .into());
-                }
-                let mut changes = Vec::new();
-                diff(&old, identity, "", &mut changes);
-                let more = changes.len().saturating_sub(6);
-                changes.truncate(6);
-                let mut msg = format!(
-                    "the output folder `{}` holds another dataset; changed: {}",
-                    self.root.display(),
-                    changes.join("; ")
-                );
-                if more > 0 {
-                    msg += &format!(" (and {more} more)");
-                }
-                return Err(InputError::new(config_file, msg)
-                    .field("-o")
-                    .hint("choose a new output folder, or pass --force to start this dataset over in it")
-                    .into());
-            }
-        } else {
-            let foreign: Vec<String> = std::fs::read_dir(&self.root)
-                .map_err(|e| Error::io(&self.root, e))?
-                .filter_map(|e| e.ok())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                // The lock, and temporary files of a run killed while claiming the folder.
-                .filter(|n| n != LOCK && !(n.starts_with('.') && n.contains(".tmp.")))
-                .collect();
-            if !foreign.is_empty() && !force {
-                return Err(InputError::new(
-                    config_file,
-                    format!(
-                        "the output folder `{}` is not empty and holds no {DATASET_JSON} (it has {})",
-                        self.root.display(),
-                        foreign.join(", ")
-                    ),
-                )
-                .field("-o")
-                .hint("give a new or empty folder: prism never writes over files it did not make")
-                .into());
-            }
-        }
-        crate::output::write_atomic(&path, |tmp| {
-            std::fs::write(tmp, &text).map_err(|e| e.to_string())
-        })?;
-        let m = self.root.join(MANIFEST);
-        crate::output::write_atomic(&m, |tmp| std::fs::write(tmp, "").map_err(|e| e.to_string()))
-    }
-
     /// The manifest's bytes (none if it is missing), read through the input-file checks: a
     /// FIFO or device there is refused, not read forever.
     fn raw(&self) -> Result<Vec<u8>, Error> {
@@ -295,6 +204,9 @@ impl Out {
     /// Whether `e` lists its own frame's files, the EXR among them, each there with its
     /// checksum. A line naming another frame's files, or none, is not this frame's record.
     pub fn intact(&self, e: &Entry) -> bool {
+        if e.frame >= self.frames {
+            return false;
+        }
         let own = format!("frames/{:06}.", e.frame);
         let named = |f: &FileSum| {
             f.path

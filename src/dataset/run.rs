@@ -115,14 +115,17 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     for &i in &frames {
         plan::plan(&base, i)?;
     }
-    let out = Out::new(out.to_path_buf(), opts.verify);
+    let mut out = Out::new(out.to_path_buf(), opts.verify);
+    // A line of a frame the dataset does not have (frame 99 of 6) is not a finished frame.
+    out.frames = base.config.frames;
     // With --verify, the frames listed before the full check (`prepare` drops damaged ones).
     let listed = if opts.verify && out.root.join(super::manifest::DATASET_JSON).is_file() {
         out.listed().unwrap_or_default()
     } else {
         Default::default()
     };
-    out.prepare(&identity(&base)?, opts.force, file)?;
+    // Held to the end: a --force run of another config cannot start over under this one.
+    let _hold = out.prepare(&identity(&base)?, opts.force, file)?;
     // Temporaries of runs killed while writing (their process gone); a live run's stay.
     crate::output::guard::sweep(&out.frames_dir());
     let scene_dir = base

@@ -177,7 +177,9 @@ pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     // Sampler and integrator.
     let s = &cfg.sampler;
     if let Some((sub, message)) = s.spp.problem(s.kind) {
-        return Err(InputError::new(file, message).field(format!("sampler.spp{sub}")));
+        return Err(InputError::new(file, message)
+            .field(format!("sampler.spp{sub}"))
+            .hint("spp is a whole number ≥ 1, or Adaptive(rel_error: 0.01, min: 16, max: 4096) with min ≤ max (scenes/README.md)"));
     }
     check(
         cfg.integrator.max_depth >= -1,

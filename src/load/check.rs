@@ -13,7 +13,10 @@ pub(super) fn check(
     if cond {
         Ok(())
     } else {
-        Err(InputError::new(file, message).field(field))
+        // The message states the values allowed; the documentation says what the field does.
+        Err(InputError::new(file, message).field(field).hint(format!(
+            "scenes/README.md documents `{field}` and its range"
+        )))
     }
 }
 

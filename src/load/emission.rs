@@ -58,7 +58,11 @@ pub fn area_radiance(
             warnings,
         )?));
     };
-    let err = |m: String| InputError::new(file, m).field(field.to_string());
+    let err = |m: String| {
+        InputError::new(file, m)
+            .field(field.to_string())
+            .hint("scenes/README.md documents emission textures (a bitmap, its scale and gamut)")
+    };
     if !(scale.is_finite() && scale >= 0.0) {
         return Err(err(format!("the scale {scale} must be finite and ≥ 0")));
     }

@@ -98,7 +98,8 @@ pub fn emitter(
                             file,
                             "give either `direction` or `to_world`, not both",
                         )
-                        .field(field.to_string()));
+                        .field(field.to_string())
+                        .hint("drop `to_world`: `direction` alone says where the light points"));
                     }
                     let v = Vec3::from(*d);
                     check(
@@ -153,7 +154,11 @@ pub fn emitter(
                 "an environment map's to_world may only rotate it (no scale or shear)",
             )?;
             let full = file.parent().unwrap_or(Path::new(".")).join(filename);
-            let err = |m: String| InputError::new(file, m).field(format!("{field}.filename"));
+            let err = |m: String| {
+                InputError::new(file, m)
+                    .field(format!("{field}.filename"))
+                    .hint("an environment map is an equirectangular EXR or PNG image, twice as wide as high")
+            };
             let img = texture::load_rgb(&full, false).map_err(|m| {
                 let hint = "image paths are relative to the scene file";
                 super::inputs::missing_hint(err(m), &full, hint)

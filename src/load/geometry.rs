@@ -66,6 +66,7 @@ pub fn transform(ops: &[TransformOp], file: &Path, field: &str) -> Result<Transf
                 let t = Transform::look_at((*origin).into(), (*target).into(), (*up).into()).ok_or_else(|| {
                     InputError::new(file, "look-at needs distinct origin and target and an up vector not parallel to the view direction")
                         .field(&f)
+                        .hint("move the origin off the target, or give an up vector that is not along target − origin")
                 })?;
                 t.m
             }
@@ -130,7 +131,9 @@ pub fn shape(
         ShapeKind::Mesh { path } => {
             let full = base.join(path);
             let mesh = mesh_io::load(&full).map_err(|m| {
-                let err = InputError::new(file, m).field(format!("{field}.shape.path"));
+                let err = InputError::new(file, m)
+                    .field(format!("{field}.shape.path"))
+                    .hint("give an OBJ or PLY mesh prism reads (scenes/README.md)");
                 let hint = "mesh paths are relative to the scene file";
                 super::inputs::missing_hint(err, &full, hint)
             })?;

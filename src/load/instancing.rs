@@ -74,7 +74,9 @@ impl MeshFiles {
             Some(m) => m.clone(),
             None => {
                 let mesh = mesh_io::load(&full).map_err(|m| {
-                    let err = InputError::new(file, m).field(format!("{field}.shape.path"));
+                    let err = InputError::new(file, m)
+                        .field(format!("{field}.shape.path"))
+                        .hint("give an OBJ or PLY mesh prism reads (scenes/README.md)");
                     super::inputs::missing_hint(
                         err,
                         &full,

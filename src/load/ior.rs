@@ -9,7 +9,11 @@ use crate::spectrum::Ior;
 impl IorConfig {
     /// Resolves to an `Ior` that is finite and > 0 over `ctx.range`.
     pub fn resolve(&self, ctx: &Context) -> Result<Ior, InputError> {
-        let err = |m: String| InputError::new(ctx.file, m).field(ctx.field);
+        let err = |m: String| {
+            InputError::new(ctx.file, m)
+                .field(ctx.field)
+                .hint("an index of refraction is a number in [0.01, 100], a name (\"bk7\") or Glass(\"…\") (scenes/README.md)")
+        };
         let ior = match self {
             IorConfig::Value(v) | IorConfig::Form(IorForm::Value(v)) => Ior::Constant(*v),
             IorConfig::Name(name) | IorConfig::Form(IorForm::Named(name)) => Ior::named(name)

@@ -41,7 +41,8 @@ pub fn from_config(
     if !(c.specular.is_finite() && (0.0..=1.0).contains(&c.specular)) {
         return Err(
             InputError::new(file, format!("specular {} is not in [0, 1]", c.specular))
-                .field(sub("specular")),
+                .field(sub("specular"))
+                .hint("give a value from 0 to 1 (KHR_materials_specular's default is 1)"),
         );
     }
     let base_color = c.base_color.resolve_texture(
@@ -60,7 +61,10 @@ pub fn from_config(
                     file,
                     format!("specular_color {rgb:?} must be finite and ≥ 0"),
                 )
-                .field(sub("specular_color")));
+                .field(sub("specular_color"))
+                .hint(
+                    "give finite components ≥ 0 (KHR_materials_specular's default is (1, 1, 1))",
+                ));
             }
             (rgb_factor(rgb), r.max(*g).max(*b))
         }

@@ -29,7 +29,10 @@ impl At<'_> {
     }
 
     fn err(&self, field: &str, message: impl Into<String>) -> InputError {
-        InputError::new(self.file, message).field(self.field(field))
+        // A caller's own hint replaces this pointer to the documentation.
+        let field = self.field(field);
+        let hint = format!("configs/README.md documents `{field}` (sensors)");
+        InputError::new(self.file, message).field(field).hint(hint)
     }
 }
 

@@ -143,7 +143,11 @@ pub fn check_output(path: &Path, flag: &str, inputs: &[PathBuf]) -> Result<(), I
 /// `path` can be written: it is not a directory or a special file, no parent of it is a
 /// regular file, and a temporary can be created (and is removed again) in its directory.
 pub fn check_writable(path: &Path, flag: &str) -> Result<(), InputError> {
-    let err = |m: String| InputError::new(path, m).field(flag);
+    let err = |m: String| {
+        InputError::new(path, m)
+            .field(flag)
+            .hint("give an output path in a folder prism can write")
+    };
     // A link (dangling or not) would be replaced by the rename, not written through: refuse it
     // rather than guess which of the two the user meant.
     if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {

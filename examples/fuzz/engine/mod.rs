@@ -10,18 +10,25 @@
 
 #![allow(dead_code)]
 
+mod dataset;
 mod mutate;
 mod oracle;
 mod seeds;
 
 // The driver and the test each use part of the engine.
 #[allow(unused_imports)]
+pub use dataset::{DatasetCase, OutState};
+#[allow(unused_imports)]
 pub use mutate::make_case;
+#[allow(unused_imports)]
+pub use mutate::make_dataset_case;
 #[allow(unused_imports)]
 pub use oracle::{
     install_panic_hook, load_corpus_case, materialise, non_finite, present, promise, run_binary,
     run_in_process, save_finding, Limits, LIMITS, OUTPUTS,
 };
+#[allow(unused_imports)]
+pub use oracle::{run_case_binary, run_case_in_process};
 pub use seeds::load_seeds;
 
 /// What an input file is (decides the mutations and the scene that uses it).
@@ -58,15 +65,29 @@ pub struct SeedFile {
 pub struct Seeds {
     pub scenes: Vec<SeedScene>,
     pub files: Vec<SeedFile>,
+    /// Dataset configs over their base scenes (examples/fuzz/engine/dataset.rs).
+    pub datasets: Vec<DatasetSeed>,
 }
 
-/// One case: the scene text and at most one input file (name, bytes) beside it.
+/// A dataset config (`scene: "scene.ron"`, beside it in the case's directory) and its base
+/// scene, prepared as the scenes are (`@REPO@/...` paths, 2 frames of 8×6).
+#[derive(Clone, Debug)]
+pub struct DatasetSeed {
+    pub name: String,
+    pub config: String,
+    pub scene: String,
+}
+
+/// One case: the scene text and at most one input file (name, bytes) beside it, rendered by
+/// `prism render`; or, with `dataset`, a dataset config run by `prism dataset` whose base
+/// scene is `scene`.
 #[derive(Clone, Debug)]
 pub struct Case {
     pub index: u64,
     pub what: String,
     pub scene: String,
     pub file: Option<(String, Vec<u8>)>,
+    pub dataset: Option<DatasetCase>,
 }
 
 /// How a case ended.

@@ -378,6 +378,7 @@ pub fn make_case(seeds: &Seeds, seed: u64, index: u64) -> Case {
             what: what.join("; "),
             scene,
             file: Some((f.name, bytes)),
+            dataset: None,
         }
     } else {
         let s = r.pick(&seeds.scenes);
@@ -394,6 +395,7 @@ pub fn make_case(seeds: &Seeds, seed: u64, index: u64) -> Case {
                     what: what.join("; "),
                     scene: t,
                     file: None,
+                    dataset: None,
                 };
             }
         }
@@ -405,6 +407,51 @@ pub fn make_case(seeds: &Seeds, seed: u64, index: u64) -> Case {
             what: what.join("; "),
             scene: t,
             file: None,
+            dataset: None,
         }
+    }
+}
+
+/// The dataset case `index` of the run seeded `seed`: a dataset seed's config mutated one to
+/// three times (as text, or sometimes as bytes), its base scene sometimes too, an output
+/// folder state and the command's flags (examples/fuzz/engine/dataset.rs).
+pub fn make_dataset_case(seeds: &Seeds, seed: u64, index: u64) -> Case {
+    use super::dataset::{random_state, DatasetCase, FLAGS};
+    let mut r = Rng(Pcg32::new(hash3(seed, index, 0xda7a), index));
+    let s = r.pick(&seeds.datasets).clone();
+    let mut what = vec![s.name.clone()];
+    let mut config = s.config.clone();
+    let steps = r.below(4);
+    for _ in 0..steps {
+        if r.chance(0.15) {
+            let mut b = config.into_bytes();
+            what.push(mutate_bytes(&mut r, &mut b));
+            config = String::from_utf8_lossy(&b).into_owned();
+        } else {
+            what.push(mutate_text(&mut r, &mut config, &[]));
+        }
+    }
+    let mut scene = s.scene.clone();
+    if r.chance(0.1) {
+        what.push(format!(
+            "scene: {}",
+            mutate_text(&mut r, &mut scene, &seeds.scenes)
+        ));
+    }
+    let state = random_state(&mut |n| r.below(n));
+    let flags: Vec<String> = r.pick(FLAGS).iter().map(|f| f.to_string()).collect();
+    what.push(format!("{state:?} {flags:?}"));
+    Case {
+        index,
+        what: what.join("; "),
+        scene,
+        file: None,
+        dataset: Some(DatasetCase {
+            config,
+            prime_config: s.config,
+            prime_scene: s.scene,
+            state,
+            flags,
+        }),
     }
 }

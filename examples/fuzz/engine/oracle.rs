@@ -68,6 +68,19 @@ fn args(scene: &Path, dir: &Path, limits: &Limits) -> Vec<String> {
 /// Runs the prism binary `bin` on the case in `dir`, under the limits.
 pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Verdict, String) {
     let before = present(dir);
+    spawn_judged(bin, args(scene, dir, limits), limits, &|c, err| {
+        promise(c, dir, Some(err), &before)
+    })
+}
+
+/// Runs `bin` with `args` under the limits; `judge(code, stderr)` says what an exit 0 or 2
+/// broke (None: kept).
+fn spawn_judged(
+    bin: &Path,
+    args: Vec<String>,
+    limits: &Limits,
+    judge: &dyn Fn(i32, &str) -> Option<String>,
+) -> (Verdict, String) {
     let mut child = Command::new("prlimit")
         .arg(format!("--as={}", limits.address_space))
         // Soft limit first: SIGXCPU (below), a second later the hard limit's SIGKILL.
@@ -78,7 +91,7 @@ pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Ver
         ))
         .arg("--")
         .arg(bin)
-        .args(args(scene, dir, limits))
+        .args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -108,7 +121,7 @@ pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Ver
         None => Verdict::Hang,
         Some(st) => match st.code() {
             _ if err.contains("panicked") => Verdict::Panic(tail(&err)),
-            Some(c @ (0 | 2)) => match promise(c, dir, Some(&err), &before) {
+            Some(c @ (0 | 2)) => match judge(c, &err) {
                 Some(broken) => Verdict::Broken(broken),
                 None => Verdict::Ok(c),
             },
@@ -124,6 +137,59 @@ pub fn run_binary(bin: &Path, scene: &Path, dir: &Path, limits: &Limits) -> (Ver
         },
     };
     (v, err)
+}
+
+/// `args` after the program name, as `prism::cli::run` takes them.
+pub fn with_program(args: Vec<String>) -> Vec<String> {
+    let mut a = vec!["prism".to_string()];
+    a.extend(args);
+    a
+}
+
+/// None if the first `error:` line of `stderr` (where captured) starts with a file's path
+/// (every path of a case is absolute), else what broke.
+pub fn names_a_file(stderr: Option<&str>) -> Option<String> {
+    let err = stderr?;
+    let named = err
+        .lines()
+        .find_map(|l| l.strip_prefix("error: "))
+        .is_some_and(|m| m.starts_with('/'));
+    (!named).then(|| format!("exit 2 without a message naming a file: {}", tail(err)))
+}
+
+/// Writes `case` into `dir` and runs it through the binary (a dataset case through `prism
+/// dataset`, its folder's FIFOs real), under the limits.
+pub fn run_case_binary(
+    bin: &Path,
+    case: &Case,
+    dir: &Path,
+    repo: &Path,
+    limits: &Limits,
+) -> (Verdict, String) {
+    let Some(d) = &case.dataset else {
+        let scene = materialise(case, dir, repo);
+        return run_binary(bin, &scene, dir, limits);
+    };
+    super::dataset::materialise(case, d, dir, repo, true);
+    let before = super::dataset::snapshot(&dir.join("out"));
+    let a = super::dataset::args(dir, &d.flags);
+    spawn_judged(bin, a, limits, &|c, err| {
+        super::dataset::promise(c, dir, &d.flags, Some(err), &before)
+    })
+}
+
+/// Writes `case` into `dir` and runs it in-process (`prism::cli::run`, panics caught).
+pub fn run_case_in_process(case: &Case, dir: &Path, repo: &Path, limits: &Limits) -> Verdict {
+    let Some(d) = &case.dataset else {
+        let scene = materialise(case, dir, repo);
+        return run_in_process(&scene, dir, limits);
+    };
+    super::dataset::materialise(case, d, dir, repo, false);
+    let before = super::dataset::snapshot(&dir.join("out"));
+    let a = with_program(super::dataset::args(dir, &d.flags));
+    in_process_judged(a, &|c| {
+        super::dataset::promise(c, dir, &d.flags, None, &before)
+    })
 }
 
 /// The outputs a case's run writes (`args`): the EXR, its sidecar and the preview.
@@ -142,19 +208,7 @@ pub fn promise(code: i32, dir: &Path, stderr: Option<&str>, before: &[&str]) -> 
         if !left.is_empty() {
             return Some(format!("exit 2 left {left:?} behind"));
         }
-        if let Some(err) = stderr {
-            let named = err
-                .lines()
-                .find_map(|l| l.strip_prefix("error: "))
-                .is_some_and(|m| m.starts_with('/'));
-            if !named {
-                return Some(format!(
-                    "exit 2 without a message naming a file: {}",
-                    tail(err)
-                ));
-            }
-        }
-        return None;
+        return names_a_file(stderr);
     }
     for n in &OUTPUTS[..2] {
         if !dir.join(n).is_file() {
@@ -224,10 +278,13 @@ pub fn install_panic_hook() {
 /// and memory are not bounded here (the binary runs are for those).
 pub fn run_in_process(scene: &Path, dir: &Path, limits: &Limits) -> Verdict {
     let before = present(dir);
-    let mut a = vec!["prism".to_string()];
-    a.extend(args(scene, dir, limits));
+    let a = with_program(args(scene, dir, limits));
+    in_process_judged(a, &|c| promise(c, dir, None, &before))
+}
+
+fn in_process_judged(a: Vec<String>, judge: &dyn Fn(i32) -> Option<String>) -> Verdict {
     match std::panic::catch_unwind(|| prism::cli::run(a)) {
-        Ok(c @ (0 | 2)) => match promise(c, dir, None, &before) {
+        Ok(c @ (0 | 2)) => match judge(c) {
             Some(broken) => Verdict::Broken(broken),
             None => Verdict::Ok(c),
         },
@@ -246,11 +303,24 @@ pub fn run_in_process(scene: &Path, dir: &Path, limits: &Limits) -> Verdict {
 /// above) and at most one other file, the input it reads.
 pub fn load_corpus_case(dir: &Path) -> Case {
     let scene = std::fs::read_to_string(dir.join("scene.ron")).unwrap();
+    // A dataset case: `case.json` holds the config, the priming pair, the state and the flags.
+    if let Ok(j) = std::fs::read_to_string(dir.join("case.json")) {
+        return Case {
+            index: 0,
+            what: dir.display().to_string(),
+            scene,
+            file: None,
+            dataset: Some(serde_json::from_str(&j).expect("a dataset case's case.json")),
+        };
+    }
     let mut file = None;
     for e in std::fs::read_dir(dir).unwrap() {
         let p = e.unwrap().path();
         let name = p.file_name().unwrap().to_string_lossy().into_owned();
-        if !matches!(name.as_str(), "scene.ron" | "README" | "expect") {
+        if !matches!(
+            name.as_str(),
+            "scene.ron" | "README" | "expect" | "case.json"
+        ) {
             file = Some((name, std::fs::read(&p).unwrap()));
         }
     }
@@ -259,6 +329,7 @@ pub fn load_corpus_case(dir: &Path) -> Case {
         what: dir.display().to_string(),
         scene,
         file,
+        dataset: None,
     }
 }
 
@@ -269,6 +340,10 @@ pub fn save_finding(case: &Case, verdict: &Verdict, stderr: &str, out: &Path) ->
     std::fs::write(d.join("scene.ron"), &case.scene).unwrap();
     if let Some((n, b)) = &case.file {
         std::fs::write(d.join(n), b).unwrap();
+    }
+    if let Some(ds) = &case.dataset {
+        let j = serde_json::to_string_pretty(ds).expect("cases serialise");
+        std::fs::write(d.join("case.json"), j).unwrap();
     }
     std::fs::write(
         d.join("README"),

@@ -130,6 +130,7 @@ pub fn load_seeds(repo: &Path) -> Seeds {
     Seeds {
         scenes,
         files: seed_files,
+        datasets: super::dataset::dataset_seeds(repo),
     }
 }
 
@@ -234,7 +235,7 @@ fn glb(json: &[u8]) -> Vec<u8> {
 }
 
 /// Makes a scene's relative paths `@REPO@/...` and its film 8×6.
-fn prepare(text: &str, dir: &Path, repo: &Path) -> String {
+pub(super) fn prepare(text: &str, dir: &Path, repo: &Path) -> String {
     let rel_dir = dir.strip_prefix(repo).unwrap();
     let mut t = absolutise(text, "path: \"", rel_dir);
     t = absolutise(&t, "filename: \"", rel_dir);
@@ -256,6 +257,25 @@ fn absolutise(text: &str, key: &str, rel_dir: &Path) -> String {
     while let Some(i) = rest.find(key) {
         out.push_str(&rest[..i + key.len()]);
         rest = &rest[i + key.len()..];
+        let end = rest.find('"').unwrap_or(0);
+        out.push_str(&format!(
+            "@REPO@/{}",
+            normalise(&rel_dir.join(&rest[..end]))
+        ));
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Rewrites every string literal starting `../` as `@REPO@/<rel_dir>/<string>` (a dataset
+/// config's sensor and envmap files).
+pub(super) fn absolute_strings(text: &str, rel_dir: &Path) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find("\"../") {
+        out.push_str(&rest[..i + 1]);
+        rest = &rest[i + 1..];
         let end = rest.find('"').unwrap_or(0);
         out.push_str(&format!(
             "@REPO@/{}",
@@ -295,7 +315,7 @@ fn first_paren(t: &str) -> Option<usize> {
 }
 
 /// Replaces the number after each `key:` (a whole word) with `v`.
-fn set_number(t: &str, key: &str, v: &str) -> String {
+pub(super) fn set_number(t: &str, key: &str, v: &str) -> String {
     let pat = format!("{key}:");
     let mut out = String::new();
     let mut i = 0;

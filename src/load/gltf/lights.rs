@@ -212,10 +212,10 @@ pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), Inp
             };
         }
     }
-    let file_name = path
-        .file_name()
-        .and_then(|f| f.to_str())
-        .ok_or_else(|| InputError::new(path, "the file name is not valid UTF-8"))?;
+    let file_name = path.file_name().and_then(|f| f.to_str()).ok_or_else(|| {
+        InputError::new(path, "the file name is not valid UTF-8")
+            .hint("rename the file to a UTF-8 name")
+    })?;
     cfg.shapes.push(ShapeConfig {
         shape: ShapeKind::Gltf {
             path: file_name.to_string(),

@@ -72,7 +72,10 @@ fn extension_hint(ext: &str) -> String {
 }
 
 fn err(path: &Path, field: impl Into<String>, message: impl Into<String>) -> InputError {
-    InputError::new(path, message).field(field)
+    // A caller's own hint replaces this one.
+    let field = field.into();
+    let hint = format!("the glTF 2.0 specification gives the values `{field}` may take; scenes/README.md lists what prism reads");
+    InputError::new(path, message).field(field).hint(hint)
 }
 
 thread_local! {

@@ -110,7 +110,9 @@ pub fn walk_with(
         w.nodes += 1;
         let local = Mat4::from_cols_array_2d(&node.transform().matrix());
         if !local.is_finite() {
-            return Err(InputError::new(path, "the node's transform is not finite").field(field));
+            return Err(InputError::new(path, "the node's transform is not finite")
+                .field(field)
+                .hint("give the node a finite matrix, or finite translation, rotation and scale"));
         }
         let world = parent * local;
         // Nodes at 1e30 are finite but overflow the 32-bit geometry (as OBJ's `extent` check).

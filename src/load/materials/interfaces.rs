@@ -32,7 +32,8 @@ pub(super) fn conductor(
                     file,
                     format!("give either `material: \"{name}\"` or `eta` and `k`, not both"),
                 )
-                .field(field));
+                .field(field)
+                .hint("drop `eta` and `k` to use the named metal's, or drop `material`"));
             }
             let (eta, k) = metals::named_metal(name).ok_or_else(|| {
                 InputError::new(file, format!("unknown metal `{name}`"))

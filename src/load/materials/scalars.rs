@@ -90,7 +90,9 @@ fn float_in(
     Ok(match f {
         FloatConfig::Value(v) => {
             if !(0.0..=1.0).contains(v) {
-                return Err(InputError::new(file, format!("{v} is not in [0, 1]")).field(field));
+                return Err(InputError::new(file, format!("{v} is not in [0, 1]"))
+                    .field(field)
+                    .hint("give a value from 0 to 1"));
             }
             FloatTexture::Constant(*v)
         }
@@ -102,7 +104,9 @@ fn float_in(
         }) => {
             for v in [value0, value1] {
                 if !(0.0..=1.0).contains(v) {
-                    return Err(InputError::new(file, format!("{v} is not in [0, 1]")).field(field));
+                    return Err(InputError::new(file, format!("{v} is not in [0, 1]"))
+                        .field(field)
+                        .hint("give a value from 0 to 1"));
                 }
             }
             FloatTexture::Checkerboard {
@@ -121,12 +125,17 @@ fn float_in(
         }) => {
             let full = file.parent().unwrap_or(Path::new(".")).join(path);
             let img = texture::load_rgb(&full, *raw).map_err(|m| {
-                let err = InputError::new(file, m).field(field);
+                let err = InputError::new(file, m)
+                    .field(field)
+                    .hint("a texture is a PNG or EXR image prism reads");
                 let hint = "texture paths are relative to the scene file";
                 crate::io::inputs::missing_hint(err, &full, hint)
             })?;
-            img.validate(range)
-                .map_err(|m| InputError::new(file, m).field(field))?;
+            img.validate(range).map_err(|m| {
+                InputError::new(file, m)
+                    .field(field)
+                    .hint("fix the texels the message names, or give another image")
+            })?;
             FloatTexture::Bitmap(Box::new(img.to_luminance(
                 *wrap,
                 *filter,

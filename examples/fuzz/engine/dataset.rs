@@ -1,0 +1,447 @@
+//! Dataset cases (issue 27 item 5): a dataset config (configs/datasets/*.ron and small variants,
+//! one kind of variation each) over a base scene, run by `prism dataset` into an output folder
+//! in a state a user's folder can be in: absent, empty, foreign, a file, or a finished run's
+//! folder then damaged (torn or forged manifest lines, parts of the wrong file type, foreign
+//! files, stale temporaries, a damaged frame). The oracle is the render cases' promise, for a
+//! folder: exit 2 changes nothing in it and names a file; exit 0 lists every selected frame
+//! under its own files, each EXR finite in every channel.
+
+use super::seeds::{absolute_strings, prepare, set_number};
+use super::{Case, DatasetSeed};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The small base scene of the variants: named shapes, an area lamp, an environment map, every
+/// material kind a variation edits.
+const SMALL: &str = r#"(film: (width: 8, height: 6), sampler: (spp: 1),
+ camera: (fov: 40, to_world: [LookAt(origin: (0, 1.2, 4), target: (0, 0.8, 0), up: (0, 1, 0))]),
+ materials: {"paint": Diffuse(), "glass": Dielectric(int_ior: 1.5), "rough": RoughConductor(alpha: 0.2),
+   "plastic": RoughPlastic(alpha: 0.1, diffuse_reflectance: Rgb(0.2, 0.4, 0.8)), "wood": Diffuse()},
+ shapes: [(name: "table", shape: Cube, material: "wood", to_world: [Scale((1.2, 0.05, 0.8)), Translate((0, 0.7, 0))]),
+   (name: "ball", shape: Sphere(radius: 0.15), material: "paint", to_world: [Translate((-0.3, 0.9, 0))]),
+   (name: "box", shape: Cube, material: "plastic", to_world: [Scale((0.1, 0.1, 0.1)), Translate((0.3, 0.85, 0))]),
+   (name: "lamp", shape: Rectangle, to_world: [Scale((0.4, 0.4, 1)), Rotate(axis: (1, 0, 0), angle: 90), Translate((0, 2.6, 0.3))],
+    emitter: (radiance: Scaled(12, Named("D65"))))],
+ emitters: [Envmap(filename: "@REPO@/scenes/textures/sky.exr", scale: 0.5)])"#;
+
+/// One variation kind each, over `SMALL`.
+const VARIANTS: &[(&str, &str)] = &[
+    ("poses", "camera: (look_at: Poses([(origin: (0, 1, 4), target: (0, 0.8, 0)), (origin: (3, 1.5, 3), target: (0, 0.8, 0))]), up: (0, 1, 0), fov: (30, 50)),"),
+    ("shell", "camera: (look_at: Shell(target: (0, 0.8, 0), radius: (2, 4), elevation: (5, 60), azimuth: (0, 360)), roll: 10, keep_in_view: [\"ball\"], max_attempts: 20),"),
+    ("lights", "lights: [(target: \"lamp\", intensity: (1, 10), illuminants: [\"D65\", \"A\", \"F2\"]), (target: \"emitters[0]\", intensity: (0.1, 2))],"),
+    ("temperature", "lights: [(target: \"lamp\", intensity: (2, 8), temperature: (2000, 9000))],"),
+    ("envmap", "envmap: (target: \"emitters[0]\", files: [\"@REPO@/scenes/textures/sky.exr\"], rotate: false),"),
+    ("sensor", "outputs: (spp: 1, resolution: (8, 6), aovs: [\"depth\", \"instance\", \"label\"], sensors: [(name: \"nikon\", sensor: File(\"@REPO@/configs/sensors/nikon_d810.ron\"))]), sensor: (files: [\"@REPO@/configs/sensors/cie1931.ron\", \"@REPO@/configs/sensors/raw_rggb.ron\"], exposure: (-2, 2)),"),
+    ("materials", "materials: [(target: \"glass\", ior: (1.3, 1.9)), (target: \"rough\", roughness: (0.01, 0.5)), (target: \"paint\", reflectance: Library(\"cie1995_tcs\")), (target: \"plastic\", reflectance: Library(\"colorchecker\"), roughness: (0.05, 0.3))],"),
+    ("objects", "splits: {\"train\": (0, 1), \"val\": (1, 2)}, swaps: [(shape: \"ball\", materials: [\"paint\", \"glass\", \"rough\"])], objects: (subsets: [(shapes: [\"ball\", \"box\"], shown: (0, 2))], place: (support: \"table\", shapes: [\"ball\", \"box\"], yaw: (0, 360), scale: (0.5, 1.5), gap: 0.01, max_attempts: 50)),"),
+];
+
+/// The dataset seeds: configs/datasets/*.ron over their base scene (paths made `@REPO@/...`,
+/// frames of 8×6 at 1 spp) and the variants over `SMALL`.
+pub fn dataset_seeds(repo: &Path) -> Vec<DatasetSeed> {
+    let dir = repo.join("configs/datasets");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    v.sort();
+    let mut out = Vec::new();
+    for p in v {
+        let text = std::fs::read_to_string(&p).unwrap();
+        let Some(scene_rel) = text
+            .split("scene: \"")
+            .nth(1)
+            .and_then(|r| r.split('"').next())
+        else {
+            continue;
+        };
+        let scene_path = dir.join(scene_rel);
+        let scene = prepare(
+            &std::fs::read_to_string(&scene_path).unwrap(),
+            scene_path.parent().unwrap(),
+            repo,
+        );
+        let mut config = text.replacen(&format!("\"{scene_rel}\""), "\"scene.ron\"", 1);
+        config = absolute_strings(&config, Path::new("configs/datasets"));
+        config = small(&config);
+        out.push(DatasetSeed {
+            name: p.strip_prefix(repo).unwrap().display().to_string(),
+            config,
+            scene,
+        });
+    }
+    for (name, body) in VARIANTS {
+        let outputs = if body.contains("outputs:") {
+            ""
+        } else {
+            "outputs: (spp: 1, resolution: (8, 6)), "
+        };
+        out.push(DatasetSeed {
+            name: format!("dataset:{name}"),
+            config: format!("(scene: \"scene.ron\", frames: 2, seed: 3, {outputs}{body})"),
+            scene: SMALL.to_string(),
+        });
+    }
+    out
+}
+
+/// Frames of 8×6 at 1 spp: a case renders in milliseconds. The frame count stays (splits
+/// refer to it); a case selects frames 0 and 1 (`--frames 0..2`).
+fn small(t: &str) -> String {
+    let mut t = set_number(t, "spp", "1");
+    if let Some(i) = t.find("resolution: (") {
+        if let Some(j) = t[i..].find(')') {
+            t.replace_range(i..i + j + 1, "resolution: (8, 6)");
+        }
+    }
+    t
+}
+
+/// The state of the output folder before the case's run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum OutState {
+    Absent,
+    Empty,
+    /// A user's folder: a file of theirs in it.
+    Foreign,
+    /// OUT is a regular file, or a dangling symbolic link.
+    IsFile,
+    DanglingLink,
+    /// The unmutated config's run (frames 0 and 1), then damaged.
+    Primed(Vec<Damage>),
+}
+
+/// A damage to a finished run's folder.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Damage {
+    /// The manifest's last `n` bytes cut (a torn line).
+    TornTail(usize),
+    /// A line of these bytes appended (garbage, invalid UTF-8).
+    AppendLine(Vec<u8>),
+    /// Frame 1's line and files removed, then a forged line appended: frame 1 naming frame
+    /// 0's files ("other"), frame 1 with `"files": []` ("empty"), or frame 99 of 2 with copies
+    /// of frame 0's files ("past").
+    Forge(String),
+    /// `name` (relative to OUT) replaced by a directory, a file, a FIFO (a directory
+    /// in-process, where a blocked open would stop the fuzzer), a dangling link or a link to
+    /// /dev/zero.
+    WrongType(String, String),
+    /// A temporary of a dead process (`.NAME.<pid>.tmp.EXT`) beside a frame and the JSON.
+    StaleTemp,
+    /// A file of the user's in OUT or in frames/.
+    ForeignFile(String),
+    /// Frame 0's EXR with a byte flipped at this offset (same size).
+    CorruptFrame(usize),
+    /// dataset.json cut to this many bytes.
+    TruncateIdentity(usize),
+    /// Frame 1's EXR removed.
+    RemoveFrame,
+}
+
+/// A dataset case: the config (its base scene is the case's `scene`), the unmutated pair the
+/// folder is primed with, the folder's state and the command's flags.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct DatasetCase {
+    pub config: String,
+    pub prime_config: String,
+    pub prime_scene: String,
+    pub state: OutState,
+    pub flags: Vec<String>,
+}
+
+/// Flags a case runs with (beside `--frames 0..2 --threads 1 --quiet`).
+pub const FLAGS: &[&[&str]] = &[
+    &[],
+    &[],
+    &[],
+    &["--force"],
+    &["--check"],
+    &["--verify"],
+    &["--export-frame", "1"],
+    &["--shard", "1", "--num-shards", "2"],
+];
+
+const TARGETS: &[&str] = &[
+    "manifest.jsonl",
+    "frames",
+    ".prism-dataset.lock",
+    "dataset.json",
+    "frames/000000.exr",
+    "frames/000001.json",
+];
+const KINDS: &[&str] = &["dir", "file", "fifo", "dangling", "devzero"];
+
+/// A random state (`pick(n)` is uniform in 0..n).
+pub fn random_state(pick: &mut dyn FnMut(usize) -> usize) -> OutState {
+    match pick(10) {
+        0 => OutState::Absent,
+        1 => OutState::Empty,
+        2 => OutState::Foreign,
+        3 => [OutState::IsFile, OutState::DanglingLink][pick(2)].clone(),
+        _ => {
+            let n = pick(3);
+            let d = (0..n)
+                .map(|_| match pick(9) {
+                    0 => Damage::TornTail(1 + pick(60)),
+                    1 => Damage::AppendLine(
+                        [
+                            &b"{\"frame\":1,\xff\xfe}"[..],
+                            &b"{\"frame\":0"[..],
+                            &b"garbage"[..],
+                            &b"\0\0\0"[..],
+                        ][pick(4)]
+                        .to_vec(),
+                    ),
+                    2 => Damage::Forge(["other", "empty", "past"][pick(3)].into()),
+                    3 => Damage::WrongType(
+                        TARGETS[pick(TARGETS.len())].into(),
+                        KINDS[pick(KINDS.len())].into(),
+                    ),
+                    4 => Damage::StaleTemp,
+                    5 => Damage::ForeignFile(["notes.txt", "frames/notes.txt"][pick(2)].into()),
+                    6 => Damage::CorruptFrame(pick(400)),
+                    7 => Damage::TruncateIdentity(pick(200)),
+                    _ => Damage::RemoveFrame,
+                })
+                .collect();
+            OutState::Primed(d)
+        }
+    }
+}
+
+/// The command line of a dataset case (the config and OUT absolute, as in every case).
+pub fn args(dir: &Path, flags: &[String]) -> Vec<String> {
+    let mut a: Vec<String> = vec![
+        "dataset".into(),
+        dir.join("dataset.ron").display().to_string(),
+        "-o".into(),
+        dir.join("out").display().to_string(),
+        "--frames".into(),
+        "0..2".into(),
+        "--threads".into(),
+        "1".into(),
+        "--quiet".into(),
+    ];
+    a.extend(flags.iter().cloned());
+    a
+}
+
+/// Writes the case into `dir` (emptied first): primes the folder with the unmutated pair
+/// (in-process), damages it, then writes the mutated config and scene. `fifo`: FIFOs may be
+/// made (binary runs only).
+pub fn materialise(case: &Case, d: &DatasetCase, dir: &Path, repo: &Path, fifo: bool) {
+    let _ = std::fs::remove_dir_all(dir);
+    std::fs::create_dir_all(dir).unwrap();
+    let fill = |t: &str| {
+        t.replace("@REPO@", &repo.display().to_string())
+            .replace("@CASE@", &dir.display().to_string())
+    };
+    let out = dir.join("out");
+    let write_pair = |config: &str, scene: &str| {
+        std::fs::write(dir.join("dataset.ron"), fill(config)).unwrap();
+        std::fs::write(dir.join("scene.ron"), fill(scene)).unwrap();
+    };
+    match &d.state {
+        OutState::Absent => {}
+        OutState::Empty => std::fs::create_dir(&out).unwrap(),
+        OutState::Foreign => {
+            std::fs::create_dir(&out).unwrap();
+            std::fs::write(out.join("thesis.tex"), "mine").unwrap();
+        }
+        OutState::IsFile => std::fs::write(&out, "mine").unwrap(),
+        OutState::DanglingLink => std::os::unix::fs::symlink(dir.join("nowhere/x"), &out).unwrap(),
+        OutState::Primed(damages) => {
+            write_pair(&d.prime_config, &d.prime_scene);
+            let a = super::oracle::with_program(args(dir, &[]));
+            let code = std::panic::catch_unwind(|| prism::cli::run(a)).unwrap_or(101);
+            if code == 0 {
+                for dmg in damages {
+                    damage(&out, dmg, fifo);
+                }
+            }
+        }
+    }
+    write_pair(&d.config, &case.scene);
+}
+
+fn damage(out: &Path, d: &Damage, fifo: bool) {
+    let m = out.join("manifest.jsonl");
+    let text = std::fs::read(&m).unwrap_or_default();
+    let frame0 = |t: &[u8]| -> Option<String> {
+        String::from_utf8_lossy(t)
+            .lines()
+            .find(|l| l.starts_with("{\"frame\":0,"))
+            .map(String::from)
+    };
+    match d {
+        Damage::TornTail(n) => {
+            let _ = std::fs::write(&m, &text[..text.len().saturating_sub(*n)]);
+        }
+        Damage::AppendLine(b) => {
+            let mut t = text.clone();
+            t.extend_from_slice(b);
+            t.push(b'\n');
+            let _ = std::fs::write(&m, t);
+        }
+        Damage::Forge(kind) => {
+            let Some(line0) = frame0(&text) else { return };
+            let keep: String = String::from_utf8_lossy(&text)
+                .lines()
+                .filter(|l| !l.starts_with("{\"frame\":1,"))
+                .map(|l| format!("{l}\n"))
+                .collect();
+            for e in ["exr", "json", "png"] {
+                let _ = std::fs::remove_file(out.join(format!("frames/000001.{e}")));
+            }
+            let forged = match kind.as_str() {
+                "other" => line0.replacen("\"frame\":0", "\"frame\":1", 1),
+                "empty" => {
+                    let head = line0.split("\"files\":[").next().unwrap_or("");
+                    let tail = line0.find("],\"seconds\"").map_or("}", |i| &line0[i + 1..]);
+                    format!(
+                        "{}\"files\":[]{tail}",
+                        head.replacen("\"frame\":0", "\"frame\":1", 1)
+                    )
+                }
+                _ => {
+                    for e in ["exr", "json", "png"] {
+                        let _ = std::fs::copy(
+                            out.join(format!("frames/000000.{e}")),
+                            out.join(format!("frames/000099.{e}")),
+                        );
+                    }
+                    line0
+                        .replacen("\"frame\":0", "\"frame\":99", 1)
+                        .replace("frames/000000.", "frames/000099.")
+                }
+            };
+            let _ = std::fs::write(&m, format!("{keep}{forged}\n"));
+        }
+        Damage::WrongType(name, kind) => {
+            let p = out.join(name);
+            if p.is_dir() {
+                let _ = std::fs::remove_dir_all(&p);
+            } else {
+                let _ = std::fs::remove_file(&p);
+            }
+            let _ = match (kind.as_str(), fifo) {
+                ("dir", _) | ("fifo", false) => std::fs::create_dir(&p),
+                ("file", _) => std::fs::write(&p, "x"),
+                ("fifo", true) => {
+                    let c = std::ffi::CString::new(p.display().to_string()).unwrap();
+                    // SAFETY: a NUL-terminated path of our own.
+                    unsafe { libc::mkfifo(c.as_ptr(), 0o644) };
+                    Ok(())
+                }
+                ("dangling", _) => std::os::unix::fs::symlink(out.join("nowhere/x"), &p),
+                _ => std::os::unix::fs::symlink("/dev/zero", &p),
+            };
+        }
+        Damage::StaleTemp => {
+            let _ = std::fs::write(out.join("frames/.000000.exr.999999.tmp.exr"), "half");
+            let _ = std::fs::write(out.join(".dataset.json.999999.tmp.json"), "{");
+        }
+        Damage::ForeignFile(name) => {
+            let _ = std::fs::write(out.join(name), "mine");
+        }
+        Damage::CorruptFrame(at) => {
+            let p = out.join("frames/000000.exr");
+            if let Ok(mut b) = std::fs::read(&p) {
+                if !b.is_empty() {
+                    let i = at % b.len();
+                    b[i] ^= 0x5a;
+                    let _ = std::fs::write(&p, b);
+                }
+            }
+        }
+        Damage::TruncateIdentity(n) => {
+            let p = out.join("dataset.json");
+            if let Ok(b) = std::fs::read(&p) {
+                let _ = std::fs::write(&p, &b[..(*n).min(b.len())]);
+            }
+        }
+        Damage::RemoveFrame => {
+            let _ = std::fs::remove_file(out.join("frames/000001.exr"));
+        }
+    }
+}
+
+/// What OUT holds, for "exit 2 changed nothing": each path under it (links not followed) with
+/// its kind, size and modification time.
+pub fn snapshot(out: &Path) -> Vec<String> {
+    let mut v = Vec::new();
+    let mut stack = vec![out.to_path_buf()];
+    while let Some(p) = stack.pop() {
+        let Ok(m) = std::fs::symlink_metadata(&p) else {
+            continue;
+        };
+        let t = m.modified().ok();
+        v.push(format!(
+            "{} {:?} {} {t:?}",
+            p.display(),
+            m.file_type(),
+            m.len()
+        ));
+        if m.is_dir() {
+            for e in std::fs::read_dir(&p).into_iter().flatten().flatten() {
+                stack.push(e.path());
+            }
+        }
+    }
+    v.sort();
+    v
+}
+
+/// What exit code `code` promises for a dataset case: exit 2 left OUT as it was (`before`) and
+/// names a file; exit 0 claimed OUT and, for a run that renders, lists every selected frame
+/// under its own files, each EXR finite in every channel.
+pub fn promise(
+    code: i32,
+    dir: &Path,
+    flags: &[String],
+    stderr: Option<&str>,
+    before: &[String],
+) -> Option<String> {
+    let out = dir.join("out");
+    if code == 2 {
+        let after = snapshot(&out);
+        if after != before {
+            let changed: Vec<&String> = after.iter().filter(|l| !before.contains(l)).collect();
+            let gone: Vec<&String> = before.iter().filter(|l| !after.contains(l)).collect();
+            return Some(format!(
+                "exit 2 changed the output folder: new or changed {changed:?}, gone {gone:?}"
+            ));
+        }
+        return super::oracle::names_a_file(stderr);
+    }
+    if !out.join("dataset.json").is_file() {
+        return Some("exit 0 without OUT/dataset.json".into());
+    }
+    let has = |f: &str| flags.iter().any(|x| x == f);
+    if has("--check") {
+        return None;
+    }
+    if has("--export-frame") {
+        let ron = out.join("frames/000001.ron");
+        return (!ron.is_file()).then(|| "exit 0 without frames/000001.ron".to_string());
+    }
+    let selected: Vec<u32> = if has("--shard") { vec![1] } else { vec![0, 1] };
+    let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap_or_default();
+    for f in selected {
+        let exr = format!("frames/{f:06}.exr");
+        let own = manifest.lines().any(|l| {
+            l.starts_with(&format!("{{\"frame\":{f},"))
+                && l.contains(&format!("\"path\":\"{exr}\""))
+        });
+        if !own {
+            return Some(format!(
+                "exit 0 but the manifest lists no line of frame {f} with {exr}"
+            ));
+        }
+        if let Some(bad) = super::oracle::non_finite(&out.join(&exr)) {
+            return Some(format!("{exr}: {bad}"));
+        }
+    }
+    None
+}
