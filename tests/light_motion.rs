@@ -66,10 +66,11 @@ fn points(px: u32, py: u32, w: u32, h: u32) -> impl Iterator<Item = (f64, f64)> 
 }
 
 /// The blurred render of the sliding light matches the closed-form time average in every
-/// pixel, within 5 standard deviations of its time sampling (each sample is the radiance at
-/// one instant: its spread is at most half the pixel's range over the shutter, over √spp)
-/// plus 1e-3 relative for f32 and the 4 × 4 pixel quadrature. The light held at its mid pose
-/// (x = 0) fails that bound: the test can fail.
+/// pixel, within one standard deviation bound of independent time samples (each sample is the
+/// radiance at one instant: its spread is at most half the pixel's range over the shutter;
+/// over √spp) plus 1e-3 relative for f32 and the 4 × 4 pixel quadrature. The sampler
+/// stratifies time with the film position, so the error is far below that (measured: 0.07 of
+/// it); the light held at its mid pose (x = 0) fails it by far: the test can fail.
 #[test]
 fn a_sliding_point_light_gives_the_time_averaged_irradiance() {
     let (w, h, spp) = (32u32, 16u32, 64u32);
@@ -90,7 +91,7 @@ fn a_sliding_point_light_gives_the_time_averaged_irradiance() {
                 (f64::INFINITY, 0.0f64),
                 |(a, b), v| (a.min(v), b.max(v)),
             );
-            let tol = 5.0 * 0.5 * (hi - lo) / (spp as f64).sqrt() + 1e-3 * want;
+            let tol = 0.5 * (hi - lo) / (spp as f64).sqrt() + 1e-3 * want;
             let i = (py * w + px) as usize;
             worst = worst.max((blur[i] as f64 - want).abs() / tol);
             still_worst = still_worst.max((still[i] as f64 - want).abs() / tol);
