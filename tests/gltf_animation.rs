@@ -10,7 +10,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gltf").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/gltf")
+        .join(name)
 }
 
 fn workdir(name: &str) -> PathBuf {
@@ -63,7 +65,11 @@ fn animated_triangle_turns_as_its_keys_say() {
         let want = [(0.0, 0.0), (a.cos(), a.sin()), (-a.sin(), a.cos())];
         for (k, (x, y)) in want.iter().enumerate() {
             let d = (p[k].x as f64 - x).hypot(p[k].y as f64 - y);
-            assert!(d < 1e-5 && p[k].z.abs() < 1e-6, "t {t} corner {k}: {}", p[k]);
+            assert!(
+                d < 1e-5 && p[k].z.abs() < 1e-6,
+                "t {t} corner {k}: {}",
+                p[k]
+            );
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
@@ -113,7 +119,10 @@ fn doc(parent: &str, channels: &[(&str, &str, Vec<f32>, Vec<f32>, &str)]) -> Str
             r#"{{"sampler": {k}, "target": {{"node": 1, "path": "{path}"}}}}"#
         ));
     }
-    let uri = format!("data:application/octet-stream;base64,{}", base64::encode(&bytes));
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::encode(&bytes)
+    );
     format!(
         r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
   "nodes": [{{"children": [1]{parent}}}, {{"mesh": 0}}],
@@ -183,8 +192,20 @@ fn cubic_and_step_channels_follow_the_spec() {
     let text = doc(
         parent,
         &[
-            ("translation", "CUBICSPLINE", t_times.clone(), t_out.clone(), "VEC3"),
-            ("rotation", "CUBICSPLINE", r_times.clone(), r_out.clone(), "VEC4"),
+            (
+                "translation",
+                "CUBICSPLINE",
+                t_times.clone(),
+                t_out.clone(),
+                "VEC3",
+            ),
+            (
+                "rotation",
+                "CUBICSPLINE",
+                r_times.clone(),
+                r_out.clone(),
+                "VEC4",
+            ),
             ("scale", "STEP", s_times, s_out, "VEC3"),
         ],
     );
@@ -201,7 +222,11 @@ fn cubic_and_step_channels_follow_the_spec() {
         let tr = hermite(&f64s(&t_times), &f64s(&t_out), 3, t);
         let q = hermite(&f64s(&r_times), &f64s(&r_out), 4, t);
         let q = DQuat::from_xyzw(q[0], q[1], q[2], q[3]).normalize();
-        let sc = if t < 1.5 { DVec3::ONE } else { DVec3::new(2.0, 1.0, 0.5) };
+        let sc = if t < 1.5 {
+            DVec3::ONE
+        } else {
+            DVec3::new(2.0, 1.0, 0.5)
+        };
         let m = p * DMat4::from_scale_rotation_translation(sc, q, DVec3::new(tr[0], tr[1], tr[2]));
         let got = positions_at(&dir, &model, t as f32);
         for (k, c) in [DVec3::ZERO, DVec3::X, DVec3::Y].iter().enumerate() {
@@ -227,7 +252,14 @@ fn a_spinning_gltf_model_blurs_as_its_sweep() {
     let (w, h, spp) = (32u32, 32u32, 256u32);
     let model = data("AnimatedTriangle.gltf");
     let extra = ", to_world: [Scale((3, 3, 3))]";
-    let blur = values(&render(&scene(&model, w, h, spp, ", shutter: (open: 0, close: 0.25)", extra)));
+    let blur = values(&render(&scene(
+        &model,
+        w,
+        h,
+        spp,
+        ", shutter: (open: 0, close: 0.25)",
+        extra,
+    )));
     let still = values(&render(&scene(&model, w, h, spp, "", extra)));
     let covered = |x: f64, y: f64| {
         let (r, phi) = (x.hypot(y), y.atan2(x));
@@ -258,7 +290,9 @@ fn a_spinning_gltf_model_blurs_as_its_sweep() {
             still_worst = still_worst.max((still[i] as f64 - want).abs());
         }
     }
-    eprintln!("spinning glTF: worst pixel error {worst:.4} (bound {bound:.4}); still {still_worst:.3}");
+    eprintln!(
+        "spinning glTF: worst pixel error {worst:.4} (bound {bound:.4}); still {still_worst:.3}"
+    );
     assert!(worst < bound, "worst pixel error {worst} ≥ {bound}");
     assert!(still_worst > 2.0 * bound, "the still model passes too");
 }
@@ -273,8 +307,18 @@ fn render(text: &str) -> Film {
 fn refused(name: &str, gltf: &str, args: &str, needles: &[&str]) {
     let dir = workdir(name);
     std::fs::write(dir.join("anim.gltf"), gltf).unwrap();
-    let text = scene(Path::new("anim.gltf"), 8, 6, 1, ", shutter: (open: 0, close: 1)", "")
-        .replace("Gltf(path: \"anim.gltf\")", &format!("Gltf(path: \"anim.gltf\"{args})"));
+    let text = scene(
+        Path::new("anim.gltf"),
+        8,
+        6,
+        1,
+        ", shutter: (open: 0, close: 1)",
+        "",
+    )
+    .replace(
+        "Gltf(path: \"anim.gltf\")",
+        &format!("Gltf(path: \"anim.gltf\"{args})"),
+    );
     std::fs::write(dir.join("scene.ron"), text).unwrap();
     let o = Command::new(env!("CARGO_BIN_EXE_prism"))
         .current_dir(&dir)
@@ -301,7 +345,12 @@ fn bad_gltf_animations_are_refused() {
         "order",
         &tr(vec![0.0, 1.0, 0.5], three.clone(), "LINEAR", "VEC3"),
         "",
-        &["anim.gltf", "animations[0].samplers[0].input", "increase", "key 1 is at 1 s"],
+        &[
+            "anim.gltf",
+            "animations[0].samplers[0].input",
+            "increase",
+            "key 1 is at 1 s",
+        ],
     );
     refused(
         "nan",
@@ -313,7 +362,12 @@ fn bad_gltf_animations_are_refused() {
         "count",
         &tr(vec![0.0, 1.0], three.clone(), "LINEAR", "VEC3"),
         "",
-        &["anim.gltf", "animations[0].samplers[0].output", "2 key times but 3 outputs", "one per key"],
+        &[
+            "anim.gltf",
+            "animations[0].samplers[0].output",
+            "2 key times but 3 outputs",
+            "one per key",
+        ],
     );
     refused(
         "cubic_count",
@@ -325,12 +379,20 @@ fn bad_gltf_animations_are_refused() {
         "type",
         &tr(vec![0.0, 1.0, 2.0], vec![0.0; 12], "LINEAR", "VEC4"),
         "",
-        &["animations[0].samplers[0].output", "must be a VEC3 accessor", "not VEC4"],
+        &[
+            "animations[0].samplers[0].output",
+            "must be a VEC3 accessor",
+            "not VEC4",
+        ],
     );
     refused(
         "name",
         &tr(vec![0.0, 1.0, 2.0], three, "LINEAR", "VEC3"),
         ", animation: \"Run\"",
-        &["anim.gltf", "no animation named or numbered \"Run\"", "0 (\"Move\")"],
+        &[
+            "anim.gltf",
+            "no animation named or numbered \"Run\"",
+            "0 (\"Move\")",
+        ],
     );
 }

@@ -74,7 +74,13 @@ fn points(px: u32, py: u32, w: u32, h: u32) -> impl Iterator<Item = (f64, f64)> 
 #[test]
 fn a_sliding_point_light_gives_the_time_averaged_irradiance() {
     let (w, h, spp) = (32u32, 16u32, 64u32);
-    let blur = values(&render(&plane(w, h, spp, ", shutter: (open: 0, close: 1)", SLIDE)));
+    let blur = values(&render(&plane(
+        w,
+        h,
+        spp,
+        ", shutter: (open: 0, close: 1)",
+        SLIDE,
+    )));
     let still = values(&render(&plane(
         w,
         h,
@@ -85,12 +91,14 @@ fn a_sliding_point_light_gives_the_time_averaged_irradiance() {
     let (mut worst, mut still_worst) = (0.0f64, 0.0f64);
     for py in 0..h {
         for px in 0..w {
-            let want = points(px, py, w, h).map(|(x, y)| averaged(x, y)).sum::<f64>() / 16.0;
+            let want = points(px, py, w, h)
+                .map(|(x, y)| averaged(x, y))
+                .sum::<f64>()
+                / 16.0;
             let (cx, cy) = points(px, py, w, h).nth(5).unwrap();
-            let (lo, hi) = (0..=64).map(|k| radiance(cx, cy, -2.0 + k as f64 / 16.0)).fold(
-                (f64::INFINITY, 0.0f64),
-                |(a, b), v| (a.min(v), b.max(v)),
-            );
+            let (lo, hi) = (0..=64)
+                .map(|k| radiance(cx, cy, -2.0 + k as f64 / 16.0))
+                .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
             let tol = 0.5 * (hi - lo) / (spp as f64).sqrt() + 1e-3 * want;
             let i = (py * w + px) as usize;
             worst = worst.max((blur[i] as f64 - want).abs() / tol);
@@ -99,7 +107,10 @@ fn a_sliding_point_light_gives_the_time_averaged_irradiance() {
     }
     eprintln!("sliding light: worst error {worst:.3} of the bound; a still light {still_worst:.1}");
     assert!(worst < 1.0, "worst pixel error {worst} of the bound");
-    assert!(still_worst > 3.0, "a still light passes too ({still_worst})");
+    assert!(
+        still_worst > 3.0,
+        "a still light passes too ({still_worst})"
+    );
 }
 
 /// `--time T` (the instant T) renders each kind of moving light as the static light written at
@@ -186,7 +197,11 @@ fn bad_light_keys_are_refused() {
     refused(
         "order",
         &point(format!("{}, {}", key("1", tr), key("0.5", tr))),
-        &["emitters[0].animation.keys[1].time", "out of order", "increasing"],
+        &[
+            "emitters[0].animation.keys[1].time",
+            "out of order",
+            "increasing",
+        ],
     );
     refused(
         "nan",

@@ -15,9 +15,9 @@ use crate::ray::Ray;
 use crate::shape::Shape;
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 pub use area::{AreaEmitter, AreaLightSample};
-pub use moving::MovingLight;
 pub use envmap::{illuminant as envmap_illuminant, BrightCells, EnvMap, TAIL_END, TAIL_KELVIN};
 use glam::{Vec2, Vec3};
+pub use moving::MovingLight;
 pub use radiance::{AreaRadiance, EmissionTexel, EmissionTexture};
 pub use spot::Spot;
 
@@ -265,7 +265,12 @@ impl Emitter {
 
     /// `le_env` at `time` (the escaping ray's).
     #[inline]
-    pub fn le_env_at<const N: usize>(&self, d: Vec3, time: f32, wl: &Wavelengths<N>) -> Spectrum<N> {
+    pub fn le_env_at<const N: usize>(
+        &self,
+        d: Vec3,
+        time: f32,
+        wl: &Wavelengths<N>,
+    ) -> Spectrum<N> {
         match self {
             Emitter::Constant { radiance } => radiance.eval(wl),
             Emitter::Envmap(m) => m.eval(d, wl),

@@ -59,7 +59,11 @@ pub fn prepare(
 
 /// An environment map's keys may only turn it.
 fn rotation_only(m: &Motion, file: &Path, field: &str) -> Result<(), InputError> {
-    let scaled = m.scale.values.iter().position(|s| (*s - Vec3::ONE).abs().max_element() > 1e-4);
+    let scaled = m
+        .scale
+        .values
+        .iter()
+        .position(|s| (*s - Vec3::ONE).abs().max_element() > 1e-4);
     let moved = m.translation.values.iter().position(|t| *t != Vec3::ZERO);
     if let Some(k) = scaled.or(moved) {
         return Err(InputError::new(

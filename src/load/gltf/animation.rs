@@ -56,7 +56,8 @@ fn err(path: &Path, field: String, message: impl Into<String>, hint: &str) -> In
     InputError::new(path, message).field(field).hint(hint)
 }
 
-const REEXPORT: &str = "re-export the animation (glTF 2.0 §3.11), or check the file with the Khronos glTF validator";
+const REEXPORT: &str =
+    "re-export the animation (glTF 2.0 §3.11), or check the file with the Khronos glTF validator";
 
 /// Checks every animation's samplers and channels in the raw JSON: indices in range, input
 /// accessors SCALAR floats, outputs of the channel's type (VEC3, VEC4 rotations of floats or
@@ -104,9 +105,24 @@ pub fn check_json(path: &Path, json: &Value) -> Result<(), InputError> {
                 ));
             };
             let sf = format!("{at}.samplers[{}]", s.unwrap_or(0));
-            let input = accessor(path, &accessors, sampler.get("input"), format!("{sf}.input"))?;
-            let output = accessor(path, &accessors, sampler.get("output"), format!("{sf}.output"))?;
-            let ty = |a: &Value| a.get("type").and_then(Value::as_str).unwrap_or("").to_owned();
+            let input = accessor(
+                path,
+                &accessors,
+                sampler.get("input"),
+                format!("{sf}.input"),
+            )?;
+            let output = accessor(
+                path,
+                &accessors,
+                sampler.get("output"),
+                format!("{sf}.output"),
+            )?;
+            let ty = |a: &Value| {
+                a.get("type")
+                    .and_then(Value::as_str)
+                    .unwrap_or("")
+                    .to_owned()
+            };
             let comp = |a: &Value| a.get("componentType").and_then(Value::as_u64).unwrap_or(0);
             let count = |a: &Value| a.get("count").and_then(Value::as_u64).unwrap_or(0);
             if ty(input) != "SCALAR" || comp(input) != 5126 {
@@ -155,7 +171,11 @@ pub fn check_json(path: &Path, json: &Value) -> Result<(), InputError> {
                         "the sampler has {} key times but {} outputs; a {} sampler needs {}",
                         count(input),
                         count(output),
-                        if per == 3 { "CUBICSPLINE" } else { "LINEAR or STEP" },
+                        if per == 3 {
+                            "CUBICSPLINE"
+                        } else {
+                            "LINEAR or STEP"
+                        },
                         if per == 3 {
                             "three per key (in-tangent, value, out-tangent)"
                         } else {
@@ -214,10 +234,11 @@ pub fn read(
     let anim = match select {
         None => doc.animations().next(),
         Some(s) => {
-            let found = doc
-                .animations()
-                .find(|a| a.name() == Some(s))
-                .or_else(|| s.parse::<usize>().ok().and_then(|k| doc.animations().nth(k)));
+            let found = doc.animations().find(|a| a.name() == Some(s)).or_else(|| {
+                s.parse::<usize>()
+                    .ok()
+                    .and_then(|k| doc.animations().nth(k))
+            });
             if found.is_none() {
                 let names: Vec<String> = doc
                     .animations()
@@ -259,7 +280,10 @@ pub fn read(
                 REEXPORT,
             )
         };
-        let times: Vec<f32> = reader.read_inputs().ok_or_else(|| missing("input"))?.collect();
+        let times: Vec<f32> = reader
+            .read_inputs()
+            .ok_or_else(|| missing("input"))?
+            .collect();
         for (k, w) in times.windows(2).enumerate() {
             if !(w[0] < w[1]) {
                 return Err(err(
@@ -279,7 +303,10 @@ pub fn read(
             return Err(err(
                 path,
                 format!("{sf}.input"),
-                format!("key {k}'s time {} is not a finite number of seconds", times[k]),
+                format!(
+                    "key {k}'s time {} is not a finite number of seconds",
+                    times[k]
+                ),
                 REEXPORT,
             ));
         }
@@ -346,15 +373,18 @@ pub fn read(
             }
         }
     }
-    clip.nodes.retain(|_, t| {
-        t.translation.is_some() || t.rotation.is_some() || t.scale.is_some()
-    });
+    clip.nodes
+        .retain(|_, t| t.translation.is_some() || t.rotation.is_some() || t.scale.is_some());
     Ok(Some(clip))
 }
 
 /// A track from a sampler's times and outputs (CUBICSPLINE: in-tangent, value, out-tangent
 /// per key, as the spec lays them out).
-fn track<T: crate::motion::keyframes::Key>(times: Vec<f32>, out: Vec<T>, interp: Interp) -> Track<T> {
+fn track<T: crate::motion::keyframes::Key>(
+    times: Vec<f32>,
+    out: Vec<T>,
+    interp: Interp,
+) -> Track<T> {
     if interp == Interp::Cubic {
         let values = out.chunks_exact(3).map(|c| c[1]).collect();
         let tangents = out.chunks_exact(3).map(|c| (c[0], c[2])).collect();
@@ -383,7 +413,11 @@ pub fn fold(above: Mat4, m: Motion) -> Option<Motion> {
     let k = s.x;
     let uniform = k > 0.0 && (s - Vec3::splat(k)).abs().max_element() <= 1e-4 * k;
     let back = Mat4::from_scale_rotation_translation(Vec3::splat(k), r, above.w_axis.truncate());
-    let size = above.abs().to_cols_array().iter().fold(1.0f32, |a, &b| a.max(b));
+    let size = above
+        .abs()
+        .to_cols_array()
+        .iter()
+        .fold(1.0f32, |a, &b| a.max(b));
     let err = (back - above)
         .abs()
         .to_cols_array()

@@ -132,10 +132,8 @@ pub fn walk_timed(
         motion,
         below: Mat4::IDENTITY,
     });
-    let mut stack: Vec<(gltf::Node, Mat4, Option<Chain>)> = scene
-        .nodes()
-        .map(|n| (n, to_world, root.clone()))
-        .collect();
+    let mut stack: Vec<(gltf::Node, Mat4, Option<Chain>)> =
+        scene.nodes().map(|n| (n, to_world, root.clone())).collect();
     stack.reverse();
     while let Some((node, parent, mut chain)) = stack.pop() {
         let field = format!("nodes[{}]", node.index());
