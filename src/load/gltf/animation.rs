@@ -285,7 +285,7 @@ pub fn read(
             .ok_or_else(|| missing("input"))?
             .collect();
         for (k, w) in times.windows(2).enumerate() {
-            if !(w[0] < w[1]) {
+            if w[0].partial_cmp(&w[1]) != Some(std::cmp::Ordering::Less) {
                 return Err(err(
                     path,
                     format!("{sf}.input"),
