@@ -286,6 +286,8 @@ impl Ctx {
             Emitter::Constant { radiance } => {
                 json!({"type": "constant", "radiance": self.spectrum(radiance)})
             }
+            // A static scene: the light in its pose at the shutter's opening.
+            Emitter::Moving(m) => self.emitter(&m.posed()),
         }
     }
 }

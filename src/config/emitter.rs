@@ -2,7 +2,7 @@
 //! directional lights).
 
 use super::shape::one;
-use super::{SpectrumConfig, TransformOp};
+use super::{AnimationConfig, SpectrumConfig, TransformOp};
 use serde::{Deserialize, Serialize};
 
 /// Emitters not attached to a shape.
@@ -10,9 +10,12 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields)]
 pub enum EmitterConfig {
     /// `Point(position: (0, 2, 0), intensity: Named("A"))`, intensity in W sr⁻¹ nm⁻¹.
+    /// `animation` (keys of a `to_world` carrying `position`, `config::motion`) moves it.
     Point {
         position: [f32; 3],
         intensity: SpectrumConfig,
+        #[serde(default)]
+        animation: Option<AnimationConfig>,
     },
     /// `Constant(radiance: Constant(1.0))`: radiance arriving from every direction.
     Constant { radiance: SpectrumConfig },
@@ -31,6 +34,9 @@ pub enum EmitterConfig {
         beam_width: Option<f32>,
         #[serde(default)]
         to_world: Vec<TransformOp>,
+        /// Keyframes of `to_world`, replacing it (`config::motion::AnimationConfig`).
+        #[serde(default)]
+        animation: Option<AnimationConfig>,
     },
     /// A directional light at infinity (Mitsuba's `directional`):
     /// `Directional(irradiance: Scaled(3, Named("D65")), direction: (0, -1, -1))`.
@@ -44,6 +50,9 @@ pub enum EmitterConfig {
         direction: Option<[f32; 3]>,
         #[serde(default)]
         to_world: Vec<TransformOp>,
+        /// Keyframes of `to_world`, replacing it; a `direction` is then turned by them.
+        #[serde(default)]
+        animation: Option<AnimationConfig>,
     },
     /// An environment map (Mitsuba's `envmap`): `Envmap(filename: "textures/sky.exr", scale: 2)`.
     /// A latitude-longitude image, twice as wide as high (OpenEXR, Radiance HDR or PNG; relative
@@ -58,6 +67,9 @@ pub enum EmitterConfig {
         colour_space: Option<String>,
         #[serde(default)]
         to_world: Vec<TransformOp>,
+        /// Keyframes of `to_world` (rotations only), replacing it.
+        #[serde(default)]
+        animation: Option<AnimationConfig>,
     },
 }
 
@@ -75,7 +87,66 @@ pub enum Emission<'a> {
     Scale(&'a mut f32),
 }
 
+/// Where an emitter's animation places it (`load::light_motion`): the field an instant's pose
+/// is written to.
+pub enum Placement<'a> {
+    /// A point light's position (carried as a point).
+    Position(&'a mut [f32; 3]),
+    /// A directional light's `direction` (turned).
+    Direction(&'a mut [f32; 3]),
+    /// The light's `to_world` (replaced).
+    ToWorld(&'a mut Vec<TransformOp>),
+    /// An emitter that cannot move (`Constant`).
+    Fixed,
+}
+
 impl EmitterConfig {
+    /// The emitter's `animation` field, if its kind has one.
+    pub fn animation_mut(&mut self) -> Option<&mut Option<AnimationConfig>> {
+        match self {
+            EmitterConfig::Point { animation, .. }
+            | EmitterConfig::Spot { animation, .. }
+            | EmitterConfig::Directional { animation, .. }
+            | EmitterConfig::Envmap { animation, .. } => Some(animation),
+            EmitterConfig::Constant { .. } => None,
+        }
+    }
+
+    /// The emitter's animation, if it has one.
+    pub fn animation(&self) -> Option<&AnimationConfig> {
+        match self {
+            EmitterConfig::Point { animation, .. }
+            | EmitterConfig::Spot { animation, .. }
+            | EmitterConfig::Directional { animation, .. }
+            | EmitterConfig::Envmap { animation, .. } => animation.as_ref(),
+            EmitterConfig::Constant { .. } => None,
+        }
+    }
+
+    /// True if the emitter gives a `to_world` (which an animation replaces).
+    pub fn has_to_world(&self) -> bool {
+        match self {
+            EmitterConfig::Spot { to_world, .. }
+            | EmitterConfig::Directional { to_world, .. }
+            | EmitterConfig::Envmap { to_world, .. } => !to_world.is_empty(),
+            _ => false,
+        }
+    }
+
+    /// Where an animation's pose at an instant is written.
+    pub fn placement_mut(&mut self) -> Placement<'_> {
+        match self {
+            EmitterConfig::Point { position, .. } => Placement::Position(position),
+            EmitterConfig::Directional {
+                direction: Some(d), ..
+            } => Placement::Direction(d),
+            EmitterConfig::Spot { to_world, .. }
+            | EmitterConfig::Directional { to_world, .. }
+            | EmitterConfig::Envmap { to_world, .. } => Placement::ToWorld(to_world),
+            EmitterConfig::Constant { .. } => Placement::Fixed,
+        }
+    }
+
     /// What the emitter emits, for a dataset's light variations.
     pub fn emission_mut(&mut self) -> Emission<'_> {
         match self {

@@ -31,7 +31,7 @@ use crate::integrator::{Dispersion, PathSettings};
 use crate::sampler::SamplerKind;
 use crate::spectrum::WavelengthSampling;
 pub use camera::{CameraModel, DistortionConfig, IntrinsicsConfig};
-pub use emitter::{Emission, EmitterConfig};
+pub use emitter::{Emission, EmitterConfig, Placement};
 pub(crate) use float::unit_scale;
 pub use float::{FloatConfig, FloatTextureConfig};
 pub use ior::{IorConfig, IorForm, MAX_IOR, MIN_IOR};

@@ -76,6 +76,11 @@ pub enum ShapeKind {
         /// otherwise read any file the user can.
         #[serde(default)]
         allow_outside: bool,
+        /// Which of the file's animations poses its nodes: a name, or an index as text
+        /// (`"0"`); default the first. Its nodes are posed at the render's time, and move
+        /// while the shutter is open (`config::motion`).
+        #[serde(default)]
+        animation: Option<String>,
     },
 }
 

@@ -5,6 +5,7 @@
 
 mod area;
 mod envmap;
+mod moving;
 mod radiance;
 mod spot;
 
@@ -16,6 +17,7 @@ use crate::spectrum::{Curve, Spectrum, Wavelengths};
 pub use area::{AreaEmitter, AreaLightSample};
 pub use envmap::{illuminant as envmap_illuminant, BrightCells, EnvMap, TAIL_END, TAIL_KELVIN};
 use glam::{Vec2, Vec3};
+pub use moving::MovingLight;
 pub use radiance::{AreaRadiance, EmissionTexel, EmissionTexture};
 pub use spot::Spot;
 
@@ -35,6 +37,8 @@ pub enum Emitter {
     Directional { direction: Vec3, irradiance: Curve },
     /// Radiance at infinity read from a latitude-longitude image.
     Envmap(Box<EnvMap>),
+    /// A point, spot, directional light or environment map moving while the shutter is open.
+    Moving(Box<MovingLight>),
 }
 
 /// Light arriving at a point from a sampled point on an emitter.
@@ -56,6 +60,7 @@ impl Emitter {
         // Only lights that escaping rays can see; a directional light is a delta in direction,
         // which no ray hits.
         matches!(self, Emitter::Constant { .. } | Emitter::Envmap(_))
+            || matches!(self, Emitter::Moving(m) if m.light.is_environment())
     }
 
     /// Samples light arriving at `si`. None if the sample carries nothing (back side, zero pdf).
@@ -130,6 +135,7 @@ impl Emitter {
                     delta: true,
                 })
             }
+            Emitter::Moving(m) => m.sample_li(si, u, wl),
             Emitter::Envmap(m) => {
                 let (wi, pdf) = m.sample(u)?;
                 Some(EmitterSample {
@@ -143,6 +149,86 @@ impl Emitter {
         }
     }
 
+    /// `sample_li_other` for the light carried by `m` (world from the light's own frame: a
+    /// moving light at a sample's time, `MovingLight`). An environment map turns by `m`'s
+    /// rotation only (its keys hold no scale or translation).
+    pub(crate) fn sample_li_carried<const N: usize>(
+        &self,
+        m: &glam::Mat4,
+        si: &SurfaceInteraction,
+        u: Vec2,
+        wl: &Wavelengths<N>,
+    ) -> Option<EmitterSample<N>> {
+        match self {
+            Emitter::Point {
+                position,
+                intensity,
+            } => {
+                let p = m.transform_point3(*position);
+                let to = p - si.p;
+                let d2 = to.length_squared();
+                if d2 <= 0.0 {
+                    return None;
+                }
+                Some(EmitterSample {
+                    wi: to / d2.sqrt(),
+                    shadow: si.spawn_to(p, Vec3::ZERO, None),
+                    radiance: intensity.eval(wl) * (1.0 / d2),
+                    pdf: 1.0,
+                    delta: true,
+                })
+            }
+            Emitter::Spot(s) => s.sample_li_moved(m, si, wl),
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => {
+                let wi = -m.transform_vector3(*direction).try_normalize()?;
+                Some(EmitterSample {
+                    wi,
+                    shadow: si.spawn(wi),
+                    radiance: irradiance.eval(wl),
+                    pdf: 1.0,
+                    delta: true,
+                })
+            }
+            Emitter::Envmap(map) => {
+                let (local, pdf) = map.sample(u)?;
+                let wi = m.transform_vector3(local).normalize();
+                Some(EmitterSample {
+                    wi,
+                    shadow: si.spawn(wi),
+                    radiance: map.eval(local, wl),
+                    pdf,
+                    delta: false,
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// The light carried by `m` as a static one (`prism export` of a moving light).
+    pub(crate) fn carried(&self, m: &glam::Mat4) -> Emitter {
+        match self {
+            Emitter::Point {
+                position,
+                intensity,
+            } => Emitter::Point {
+                position: m.transform_point3(*position),
+                intensity: intensity.clone(),
+            },
+            Emitter::Spot(s) => Emitter::Spot(s.carried(m)),
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => Emitter::Directional {
+                direction: m.transform_vector3(*direction).normalize_or(*direction),
+                irradiance: irradiance.clone(),
+            },
+            other => other.clone(),
+        }
+    }
+
     /// Solid-angle density of `sample_li` from `p` producing the hit `light` (area emitters).
     #[inline]
     pub fn pdf_li_hit(&self, p: Vec3, light: &SurfaceInteraction, shapes: &[Shape]) -> f32 {
@@ -152,22 +238,43 @@ impl Emitter {
         }
     }
 
-    /// Solid-angle density of `sample_li` producing direction `d` towards infinity.
+    /// Solid-angle density of `sample_li` producing direction `d` towards infinity (a moving
+    /// map in its pose at time 0).
     #[inline]
     pub fn pdf_li_env(&self, d: Vec3) -> f32 {
+        self.pdf_li_env_at(d, 0.0)
+    }
+
+    /// `pdf_li_env` at `time`.
+    #[inline]
+    pub fn pdf_li_env_at(&self, d: Vec3, time: f32) -> f32 {
         match self {
             Emitter::Constant { .. } => UNIFORM_SPHERE_PDF,
             Emitter::Envmap(m) => m.pdf(d),
+            Emitter::Moving(m) => m.pdf_env(d, time),
             _ => 0.0,
         }
     }
 
-    /// Radiance arriving from infinity along direction `d` (environment emitters).
+    /// Radiance arriving from infinity along direction `d` (environment emitters; a moving map
+    /// in its pose at time 0).
     #[inline]
     pub fn le_env<const N: usize>(&self, d: Vec3, wl: &Wavelengths<N>) -> Spectrum<N> {
+        self.le_env_at(d, 0.0, wl)
+    }
+
+    /// `le_env` at `time` (the escaping ray's).
+    #[inline]
+    pub fn le_env_at<const N: usize>(
+        &self,
+        d: Vec3,
+        time: f32,
+        wl: &Wavelengths<N>,
+    ) -> Spectrum<N> {
         match self {
             Emitter::Constant { radiance } => radiance.eval(wl),
             Emitter::Envmap(m) => m.eval(d, wl),
+            Emitter::Moving(m) => m.le_env(d, time, wl),
             _ => Spectrum::zero(),
         }
     }

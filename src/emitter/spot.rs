@@ -106,6 +106,46 @@ impl Spot {
     }
 }
 
+impl Spot {
+    /// The light carried by `m` (world from its frame), as a static one.
+    pub fn carried(&self, m: &Mat4) -> Spot {
+        let t = Transform::from_matrix(*m * self.to_world()).unwrap_or(Transform::IDENTITY);
+        Spot::new(&t, self.intensity.clone(), self.cutoff_deg, self.beam_deg)
+    }
+
+    /// `sample_li` with the light carried by `m` (world from the light's own frame: a moving
+    /// light, `emitter::moving`).
+    pub fn sample_li_moved<const N: usize>(
+        &self,
+        m: &Mat4,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Option<EmitterSample<N>> {
+        let inv = Mat3::from_mat4(*m).inverse();
+        if !inv.is_finite() {
+            return None; // a scale through 0 at this instant
+        }
+        let position = m.transform_point3(self.position);
+        let to = position - si.p;
+        let d2 = to.length_squared();
+        if d2 <= 0.0 {
+            return None;
+        }
+        let wi = to / d2.sqrt();
+        let falloff = self.falloff((self.to_local * inv * -wi).normalize());
+        if falloff <= 0.0 {
+            return None;
+        }
+        Some(EmitterSample {
+            wi,
+            shadow: si.spawn_to(position, Vec3::ZERO, None),
+            radiance: self.intensity.eval(wl) * (falloff / d2),
+            pdf: 1.0,
+            delta: true,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -115,7 +115,7 @@ pub fn radiance<const N: usize, const DISPERSIVE: bool, const CAUSTICS: bool>(
                     if matches!((caustics, chain), (Some(c), Some(1..)) if c.takes(e, ray.d)) {
                         continue;
                     }
-                    path.add_environment(&scene.emitters[e as usize], ray.d, wl);
+                    path.add_environment(&scene.emitters[e as usize], &ray, wl);
                 }
             }
             break;
@@ -247,12 +247,13 @@ impl<const N: usize> Path<N> {
     /// Adds environment emitter `em`'s radiance along `d` (a ray that left the scene),
     /// MIS-weighted against the BSDF sampling that chose `d`.
     #[inline(always)]
-    pub(super) fn add_environment(&mut self, em: &Emitter, d: Vec3, wl: &Wavelengths<N>) {
-        let le = em.le_env(d, wl);
+    pub(super) fn add_environment(&mut self, em: &Emitter, ray: &Ray, wl: &Wavelengths<N>) {
+        let (d, time) = (ray.d, ray.time);
+        let le = em.le_env_at(d, time, wl);
         let w = if self.prev_delta {
             1.0
         } else {
-            power_heuristic(self.prev_pdf, self.select_pdf * em.pdf_li_env(d))
+            power_heuristic(self.prev_pdf, self.select_pdf * em.pdf_li_env_at(d, time))
         };
         self.l += self.beta * le * (w * self.lane_w);
     }

@@ -266,7 +266,9 @@ pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let mut moving = Vec::new();
     for (i, sc) in cfg.shapes.iter().enumerate() {
         let field = format!("shapes[{i}]");
-        if let Some(m) = plan.as_ref().and_then(|p| p.shapes[i].as_ref()) {
+        let own = plan.as_ref().and_then(|p| p.shapes[i].as_ref());
+        let gltf = matches!(sc.shape, config::ShapeKind::Gltf { .. });
+        if let Some(m) = own.filter(|_| !gltf) {
             let obj = super::motion::object_space(sc, file, &field)?;
             moving.push((shapes.len() as u32, m.clone()));
             let shape = geometry::shape(&obj, file, &field, base, &mut warnings)?;
@@ -289,8 +291,22 @@ pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         }
         if let config::ShapeKind::Gltf { .. } = sc.shape {
             let inst = super::instancing::enabled(&cfg);
-            let ex =
-                super::gltf::expand(sc, file, &field, base, &names, range, inst, &mut warnings)?;
+            let when = super::gltf::When {
+                time: cfg.camera.shutter.map_or(0.0, |s| s.open),
+                open: plan.is_some(),
+                root: own.cloned(),
+            };
+            let ex = super::gltf::expand(
+                sc,
+                file,
+                &field,
+                base,
+                &names,
+                range,
+                inst,
+                when,
+                &mut warnings,
+            )?;
             super::gltf::add_shapes(
                 ex,
                 &mut materials,
@@ -301,6 +317,7 @@ pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
                 &mut shape_name,
                 &mut material_names,
                 &mut gltf_emitters,
+                &mut moving,
             );
             shape_source.resize(shapes.len(), i);
             continue;
@@ -347,7 +364,10 @@ pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
 
     for (i, e) in cfg.emitters.iter().enumerate() {
         let field = format!("emitters[{i}]");
-        emitters.push(emitters::emitter(e, file, &field, range, &mut warnings)?);
+        let em = emitters::emitter(e, file, &field, range, &mut warnings)?;
+        let motion = plan.as_ref().and_then(|p| p.lights[i].clone());
+        let open = plan.as_ref().map_or(0.0, |p| p.shutter.open);
+        emitters.push(super::light_motion::wrap(em, motion, open));
     }
     for (field, e) in &gltf_emitters {
         emitters.push(emitters::emitter(e, file, field, range, &mut warnings)?);

@@ -31,6 +31,7 @@ pub fn emitter(
         EmitterConfig::Point {
             position,
             intensity,
+            ..
         } => {
             check(
                 finite3(*position),
@@ -57,6 +58,7 @@ pub fn emitter(
             cutoff_angle,
             beam_width,
             to_world,
+            ..
         } => {
             let cutoff = *cutoff_angle;
             check(
@@ -90,6 +92,7 @@ pub fn emitter(
             irradiance,
             direction,
             to_world,
+            ..
         } => {
             let d = match direction {
                 Some(d) => {
@@ -129,6 +132,7 @@ pub fn emitter(
             scale,
             colour_space,
             to_world,
+            ..
         } => {
             let gamut = match colour_space {
                 Some(name) => crate::load::colour_space::by_name(

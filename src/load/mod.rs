@@ -14,6 +14,7 @@ mod geometry;
 pub mod gltf;
 pub mod instancing;
 pub mod ior;
+mod light_motion;
 mod materials;
 pub mod motion;
 mod objects;

@@ -18,6 +18,8 @@ pub struct Plan {
     pub camera: Option<Motion>,
     /// Per entry of `shapes`, its motion if it has one.
     pub shapes: Vec<Option<Motion>>,
+    /// Per entry of `emitters`, its motion if it has one (`light_motion`).
+    pub lights: Vec<Option<Motion>>,
 }
 
 /// Checks the shutter and every animation. At an instant, writes each animated `to_world` as
@@ -59,7 +61,16 @@ pub fn prepare(cfg: &mut SceneConfig, file: &Path) -> Result<Option<Plan>, Input
         }
     }
     let instant = shutter.open == shutter.close && shutter.readout == 0.0;
-    if instant || (camera.is_none() && shapes.iter().all(Option::is_none)) {
+    let moving_lights = super::light_motion::any(cfg);
+    let lights = super::light_motion::prepare(cfg, file, shutter.open, instant)?;
+    // A glTF file may animate its own nodes (`load::gltf::animation`), and lights may move:
+    // an open shutter keeps its timing for them.
+    let others = cfg
+        .shapes
+        .iter()
+        .any(|s| matches!(s.shape, crate::config::ShapeKind::Gltf { .. }))
+        || moving_lights;
+    if instant || (camera.is_none() && shapes.iter().all(Option::is_none) && !others) {
         cfg.camera.animation = None;
         cfg.shapes.iter_mut().for_each(|s| s.animation = None);
         return Ok(None);
@@ -68,6 +79,7 @@ pub fn prepare(cfg: &mut SceneConfig, file: &Path) -> Result<Option<Plan>, Input
         shutter,
         camera,
         shapes,
+        lights,
     }))
 }
 
@@ -123,7 +135,7 @@ fn shutter(s: ShutterConfig, file: &Path) -> Result<Shutter, InputError> {
 
 /// An animation's keys as translation, rotation and scale tracks. `owner` is the field of the
 /// camera or shape (`camera`, `shapes[2]`); `has_to_world`: it also gives a `to_world`.
-fn motion(
+pub(super) fn motion(
     a: &AnimationConfig,
     has_to_world: bool,
     file: &Path,
@@ -255,7 +267,7 @@ fn camera_poses(m: &Motion, file: &Path) -> Result<(), InputError> {
 }
 
 /// A matrix as the config writes it (row-major).
-fn matrix_op(m: Mat4) -> TransformOp {
+pub(super) fn matrix_op(m: Mat4) -> TransformOp {
     TransformOp::Matrix(m.transpose().to_cols_array_2d())
 }
 

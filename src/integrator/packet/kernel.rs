@@ -115,7 +115,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             let Some(si) = hit else {
                 if show {
                     for &e in &scene.environment {
-                        path.add_environment(&scene.emitters[e as usize], ray.d, wl);
+                        path.add_environment(&scene.emitters[e as usize], ray, wl);
                     }
                 }
                 stream.put(item, path.l, *wl);

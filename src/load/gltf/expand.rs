@@ -2,7 +2,7 @@
 //! the walked node tree's primitives, instanced or copied, with material overrides by name.
 
 use super::materials::GltfMaterials;
-use super::nodes::walk_with;
+use super::nodes::{walk_timed, Timed};
 use crate::bsdf::Material;
 use crate::config::{EmitterConfig, ShapeConfig, ShapeKind};
 use crate::emitter::AreaRadiance;
@@ -31,6 +31,17 @@ pub struct ExpandedShape {
     /// Area-light radiance (emissive material or the shape's `emitter`).
     pub emission: Option<AreaRadiance>,
     pub name: Option<String>,
+    /// With an open shutter: the motion carrying the shape (then in object space) to the world.
+    pub motion: Option<crate::motion::Motion>,
+}
+
+/// The render's time for an included file: the instant (or the shutter's opening), whether
+/// the shutter stays open, and the shape's own motion then.
+#[derive(Default)]
+pub struct When {
+    pub time: f32,
+    pub open: bool,
+    pub root: Option<crate::motion::Motion>,
 }
 
 /// What a `Gltf` shape adds to the scene.
@@ -54,6 +65,7 @@ pub fn expand(
     names: &[&String],
     range: (f32, f32),
     instancing: bool,
+    when: When,
     warnings: &mut Vec<String>,
 ) -> Result<Expanded, InputError> {
     let ShapeKind::Gltf {
@@ -61,6 +73,7 @@ pub fn expand(
         materials: overrides,
         lights,
         allow_outside,
+        animation,
     } = &sc.shape
     else {
         unreachable!("expand is called for glTF shapes only")
@@ -78,7 +91,14 @@ pub fn expand(
         ));
     }
     // An `emitter` on the include makes every shape an area light, instanced or not.
-    let walk = walk_with(&model, t.m, instancing, warnings)?;
+    let clip = super::animation::read(&model, animation.as_deref(), warnings)?;
+    let timed = Timed {
+        clip: clip.as_ref(),
+        time: when.time,
+        open: when.open,
+        root: when.root,
+    };
+    let walk = walk_timed(&model, t.m, instancing, &timed, warnings)?;
     let lookup = |name: &str, f: String| -> Result<u32, InputError> {
         names
             .iter()
@@ -187,6 +207,14 @@ pub fn expand(
             }
         };
         let emission = area.clone().or(emission);
+        if p.motion.is_some() && emission.is_some() {
+            return Err(InputError::new(
+                &full,
+                format!("{}: an emissive mesh cannot move while the shutter is open (only at an instant)", p.name),
+            )
+            .field(field.to_string())
+            .hint("render instants (prism render --time T, or shutter open = close), or keep the light still"));
+        }
         // A normal map's tangents in mesh space, once per primitive: the file's, else
         // MikkTSpace's on the mesh as the file gives it (glTF 2.0 §3.7.2.1: from the specified
         // positions, normals and uvs), so every use maps the same tangents.
@@ -249,6 +277,7 @@ pub fn expand(
                 material,
                 emission,
                 name: Some(p.name),
+                motion: None,
             });
             continue;
         };
@@ -264,6 +293,7 @@ pub fn expand(
             material,
             emission,
             name: Some(p.name),
+            motion: p.motion,
         });
     }
     out.material_names = mats.names();

@@ -129,6 +129,7 @@ pub fn light(l: &gltf::khr_lights_punctual::Light, world: Mat4) -> GltfLight {
         Kind::Point => EmitterConfig::Point {
             position: world.transform_point3(Vec3::ZERO).into(),
             intensity: spectrum,
+            animation: None,
         },
         Kind::Spot {
             inner_cone_angle,
@@ -146,6 +147,7 @@ pub fn light(l: &gltf::khr_lights_punctual::Light, world: Mat4) -> GltfLight {
             to_world: vec![matrix_op(
                 world * Mat4::from_diagonal(Vec4::new(1.0, -1.0, -1.0, 1.0)),
             )],
+            animation: None,
         },
         Kind::Directional => EmitterConfig::Directional {
             irradiance: spectrum,
@@ -156,6 +158,7 @@ pub fn light(l: &gltf::khr_lights_punctual::Light, world: Mat4) -> GltfLight {
                     .into(),
             ),
             to_world: Vec::new(),
+            animation: None,
         },
     };
     GltfLight { name, emitter }
@@ -222,6 +225,7 @@ pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), Inp
             materials: BTreeMap::new(),
             lights: true,
             allow_outside: false,
+            animation: None,
         },
         material: None,
         emitter: None,

@@ -9,6 +9,7 @@
 //! decode) is an `InputError` naming the glTF file and the JSON field.
 
 mod accessors;
+mod animation;
 mod checks;
 mod colors;
 mod emission;
@@ -25,7 +26,7 @@ use serde_json::Value;
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
-pub use expand::{expand, Expanded, ExpandedShape, MatRef};
+pub use expand::{expand, Expanded, ExpandedShape, MatRef, When};
 pub use lights::{scene_config, scene_for, GltfCamera, GltfLight};
 pub use materials::dispersion_abbe;
 pub use nodes::{walk, Primitive, Walk};
@@ -192,6 +193,7 @@ pub fn open_with(path: &Path, allow_outside: bool) -> Result<Model, InputError> 
     }
     check_position_indices(path, &json)?;
     checks::check_values(path, &json)?;
+    animation::check_json(path, &json)?;
     accessors::check_extents(path, &json)?;
     let root: gltf::json::Root = serde_json::from_value(json).map_err(|e| {
         InputError::new(path, format!("not a valid glTF 2.0 document: {e}"))
@@ -348,6 +350,7 @@ pub(super) fn add_shapes(
     shape_name: &mut Vec<Option<String>>,
     material_names: &mut Vec<String>,
     punctual: &mut Vec<(String, crate::config::EmitterConfig)>,
+    moving: &mut Vec<(u32, crate::motion::Motion)>,
 ) {
     let first = materials.len() as u32;
     materials.extend(ex.materials);
@@ -363,6 +366,9 @@ pub(super) fn add_shapes(
             ));
             (emitters.len() - 1) as u32
         });
+        if let Some(m) = s.motion {
+            moving.push((shapes.len() as u32, m));
+        }
         shapes.push(s.shape);
         shape_material.push(mat);
         shape_emitter.push(emitter);

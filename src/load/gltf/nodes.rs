@@ -31,6 +31,9 @@ pub struct Primitive {
     /// Whether the mesh is instanced (`walk_with`): `placement` is then the shape and `mesh`
     /// is empty.
     pub instanced: bool,
+    /// With an open shutter, under an animated node: the motion that carries `mesh` (then in
+    /// the animated node's space) to the world (`Timed`).
+    pub motion: Option<crate::motion::Motion>,
 }
 
 /// What the walk over the default scene finds.
@@ -67,6 +70,36 @@ pub fn walk_with(
     instancing: bool,
     warnings: &mut Vec<String>,
 ) -> Result<Walk, InputError> {
+    walk_timed(model, to_world, instancing, &Timed::default(), warnings)
+}
+
+/// The time a walk poses the nodes at (`super::animation`).
+#[derive(Default)]
+pub struct Timed<'a> {
+    pub clip: Option<&'a super::animation::Clip>,
+    /// The instant (or the shutter's opening).
+    pub time: f32,
+    /// The shutter stays open: animated subtrees keep their motion (`Primitive::motion`).
+    pub open: bool,
+    /// The shape's own motion (RON `animation`), above the whole tree, with an open shutter.
+    pub root: Option<crate::motion::Motion>,
+}
+
+/// An animated node's subtree with an open shutter: world(t) = motion(t) · below.
+#[derive(Clone)]
+struct Chain {
+    motion: crate::motion::Motion,
+    below: Mat4,
+}
+
+/// As `walk_with`, with the nodes posed at `timed.time` (and kept moving, `timed.open`).
+pub fn walk_timed(
+    model: &Model,
+    to_world: Mat4,
+    instancing: bool,
+    timed: &Timed,
+    warnings: &mut Vec<String>,
+) -> Result<Walk, InputError> {
     let path = &model.path;
     let mut uses = vec![0usize; model.doc.meshes().len()];
     for n in model.doc.nodes() {
@@ -95,9 +128,14 @@ pub fn walk_with(
     // Depth-first, iteratively (deep trees must not overflow the stack); a node reached twice
     // (a cycle, which the spec forbids) is refused.
     let mut seen = vec![false; model.doc.nodes().len()];
-    let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, to_world)).collect();
+    let root = timed.root.clone().map(|motion| Chain {
+        motion,
+        below: Mat4::IDENTITY,
+    });
+    let mut stack: Vec<(gltf::Node, Mat4, Option<Chain>)> =
+        scene.nodes().map(|n| (n, to_world, root.clone())).collect();
     stack.reverse();
-    while let Some((node, parent)) = stack.pop() {
+    while let Some((node, parent, mut chain)) = stack.pop() {
         let field = format!("nodes[{}]", node.index());
         if std::mem::replace(&mut seen[node.index()], true) {
             return Err(InputError::new(
@@ -108,13 +146,43 @@ pub fn walk_with(
             .hint("each node may have one parent (glTF 2.0 §3.5.1)"));
         }
         w.nodes += 1;
-        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        let tracks = timed.clip.and_then(|c| c.nodes.get(&node.index()));
+        let local = match tracks {
+            Some(tr) => tr.local(&node, timed.time),
+            None => Mat4::from_cols_array_2d(&node.transform().matrix()),
+        };
         if !local.is_finite() {
             return Err(InputError::new(path, "the node's transform is not finite")
                 .field(field)
                 .hint("give the node a finite matrix, or finite translation, rotation and scale"));
         }
         let world = parent * local;
+        if let Some(tr) = tracks.filter(|_| timed.open) {
+            if chain.is_some() {
+                return Err(InputError::new(
+                    path,
+                    "this animated node lies under another moving node (or the shape's own animation); nested motion cannot be traced while the shutter is open",
+                )
+                .field(&field)
+                .hint("render instants (prism render --time T, or shutter open = close), or animate one node of each branch"));
+            }
+            {
+                let motion = super::animation::fold(parent, tr.motion(&node)).ok_or_else(|| {
+                    InputError::new(
+                        path,
+                        "an animated node under a parent that scales unevenly, shears or mirrors cannot move while the shutter is open",
+                    )
+                    .field(&field)
+                    .hint("render instants (prism render --time T, or shutter open = close), or give its parents uniform scales")
+                })?;
+                chain = Some(Chain {
+                    motion,
+                    below: Mat4::IDENTITY,
+                });
+            }
+        } else if let Some(c) = &mut chain {
+            c.below *= local;
+        }
         // Nodes at 1e30 are finite but overflow the 32-bit geometry (as OBJ's `extent` check).
         let at = world.w_axis.truncate();
         extent::check_point(at, path, &field, "the node (its translation in the world)")?;
@@ -130,7 +198,10 @@ pub fn walk_with(
                 .name()
                 .or(mesh.name())
                 .map_or_else(|| format!("node{}", node.index()), str::to_owned);
-            let t = Transform::from_matrix(world).ok_or_else(|| {
+            // Under a moving node the mesh is placed in that node's space, which the motion
+            // carries to the world.
+            let placed = chain.as_ref().map_or(world, |c| c.below);
+            let t = Transform::from_matrix(placed).ok_or_else(|| {
                 InputError::new(
                     path,
                     "the node's world transform is singular (a zero scale?)",
@@ -141,7 +212,7 @@ pub fn walk_with(
             extent::check_transform(&t, path, &field)?;
             // A mirroring transform turns the winding around (glTF 2.0 §3.7.4: front faces
             // follow the determinant's sign).
-            let mirror = world.determinant() < 0.0;
+            let mirror = placed.determinant() < 0.0;
             for prim in mesh.primitives() {
                 let key = (mesh.index(), prim.index());
                 if let std::collections::hash_map::Entry::Vacant(e) = cache.entry(key) {
@@ -162,7 +233,7 @@ pub fn walk_with(
                     "meshes[{}].primitives[{}].attributes.POSITION",
                     key.0, key.1
                 );
-                if instancing && uses[mesh.index()] > 1 {
+                if instancing && uses[mesh.index()] > 1 && chain.is_none() {
                     for p in &local_mesh.positions {
                         let p = t.point(*p);
                         extent::check_point(p, path, &source, &vertex)?;
@@ -178,6 +249,7 @@ pub fn walk_with(
                         colors: colors.clone(),
                         placement,
                         instanced: true,
+                        motion: None,
                     });
                     continue;
                 }
@@ -185,10 +257,12 @@ pub fn walk_with(
                 if mirror {
                     m.indices.iter_mut().for_each(|tri| tri.swap(1, 2));
                 }
+                let at = chain.as_ref().map(|c| c.motion.matrix(timed.time));
                 for p in &m.positions {
                     extent::check_point(*p, path, &source, &vertex)?;
-                    let b = w.bounds.get_or_insert((*p, *p));
-                    *b = (b.0.min(*p), b.1.max(*p));
+                    let p = at.map_or(*p, |a| a.transform_point3(*p));
+                    let b = w.bounds.get_or_insert((p, p));
+                    *b = (b.0.min(p), b.1.max(p));
                 }
                 w.primitives.push(Primitive {
                     mesh: m,
@@ -199,11 +273,12 @@ pub fn walk_with(
                     colors: colors.clone(),
                     placement,
                     instanced: false,
+                    motion: chain.as_ref().map(|c| c.motion.clone()),
                 });
             }
         }
         for c in node.children().collect::<Vec<_>>().into_iter().rev() {
-            stack.push((c, world));
+            stack.push((c, world, chain.clone()));
         }
     }
     Ok(w)

@@ -1,0 +1,457 @@
+//! glTF 2.0 animations (§3.11): translation, rotation and scale channels on nodes, with LINEAR
+//! (rotations: slerp), STEP and CUBICSPLINE samplers, times in seconds. One animation is read:
+//! the first, or the one the shape names (`Gltf(animation: "Walk")`, or its index, `"1"`).
+//! Morph target `weights` channels and skins are not read (a warning says so).
+//!
+//! The JSON is checked first (`check_json`): the gltf crate's reader assumes each sampler's
+//! accessors have the right type and count and would panic, or read garbage, otherwise.
+
+use crate::error::InputError;
+use crate::motion::{Interp, Motion, Track};
+use glam::{Mat4, Quat, Vec3};
+use serde_json::Value;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// One animation's tracks, per animated node.
+pub struct Clip {
+    pub nodes: HashMap<usize, NodeTracks>,
+}
+
+/// A node's animated channels (None: the node's own value, held).
+#[derive(Default)]
+pub struct NodeTracks {
+    pub translation: Option<Track<Vec3>>,
+    pub rotation: Option<Track<Quat>>,
+    pub scale: Option<Track<Vec3>>,
+}
+
+impl NodeTracks {
+    /// The node's motion: its animated channels, the others held at `node`'s TRS.
+    pub fn motion(&self, node: &gltf::Node) -> Motion {
+        let (t, r, s) = node.transform().decomposed();
+        Motion {
+            translation: self
+                .translation
+                .clone()
+                .unwrap_or_else(|| Track::constant(Vec3::from(t))),
+            rotation: self
+                .rotation
+                .clone()
+                .unwrap_or_else(|| Track::constant(Quat::from_array(r).normalize())),
+            scale: self
+                .scale
+                .clone()
+                .unwrap_or_else(|| Track::constant(Vec3::from(s))),
+        }
+    }
+
+    /// The node's local transform at time `t`.
+    pub fn local(&self, node: &gltf::Node, t: f32) -> Mat4 {
+        self.motion(node).matrix(t)
+    }
+}
+
+fn err(path: &Path, field: String, message: impl Into<String>, hint: &str) -> InputError {
+    InputError::new(path, message).field(field).hint(hint)
+}
+
+const REEXPORT: &str =
+    "re-export the animation (glTF 2.0 §3.11), or check the file with the Khronos glTF validator";
+
+/// Checks every animation's samplers and channels in the raw JSON: indices in range, input
+/// accessors SCALAR floats, outputs of the channel's type (VEC3, VEC4 rotations of floats or
+/// normalised integers), and as many outputs as inputs (three times as many, CUBICSPLINE).
+pub fn check_json(path: &Path, json: &Value) -> Result<(), InputError> {
+    let list = |k: &str| json.get(k).and_then(Value::as_array).cloned();
+    let accessors = list("accessors").unwrap_or_default();
+    let nodes = list("nodes").map_or(0, |n| n.len());
+    for (a, anim) in list("animations").unwrap_or_default().iter().enumerate() {
+        let at = format!("animations[{a}]");
+        let samplers = anim
+            .get("samplers")
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
+        let channels = anim.get("channels").and_then(Value::as_array);
+        for (c, ch) in channels.into_iter().flatten().enumerate() {
+            let cf = format!("{at}.channels[{c}]");
+            let target = ch.get("target");
+            let prop = target
+                .and_then(|t| t.get("path"))
+                .and_then(Value::as_str)
+                .unwrap_or("");
+            if let Some(n) = target.and_then(|t| t.get("node")) {
+                if n.as_u64().is_none_or(|k| k as usize >= nodes) {
+                    return Err(err(
+                        path,
+                        format!("{cf}.target.node"),
+                        format!("node {n} does not exist (the file has {nodes})"),
+                        REEXPORT,
+                    ));
+                }
+            }
+            let s = ch.get("sampler").and_then(Value::as_u64);
+            let Some(sampler) = s.and_then(|k| samplers.get(k as usize)) else {
+                return Err(err(
+                    path,
+                    format!("{cf}.sampler"),
+                    format!(
+                        "sampler {} does not exist (the animation has {})",
+                        s.map_or("(none)".into(), |s| s.to_string()),
+                        samplers.len()
+                    ),
+                    REEXPORT,
+                ));
+            };
+            let sf = format!("{at}.samplers[{}]", s.unwrap_or(0));
+            let input = accessor(
+                path,
+                &accessors,
+                sampler.get("input"),
+                format!("{sf}.input"),
+            )?;
+            let output = accessor(
+                path,
+                &accessors,
+                sampler.get("output"),
+                format!("{sf}.output"),
+            )?;
+            let ty = |a: &Value| {
+                a.get("type")
+                    .and_then(Value::as_str)
+                    .unwrap_or("")
+                    .to_owned()
+            };
+            let comp = |a: &Value| a.get("componentType").and_then(Value::as_u64).unwrap_or(0);
+            let count = |a: &Value| a.get("count").and_then(Value::as_u64).unwrap_or(0);
+            if ty(input) != "SCALAR" || comp(input) != 5126 {
+                return Err(err(
+                    path,
+                    format!("{sf}.input"),
+                    format!(
+                        "a sampler's input (its key times) must be a SCALAR float accessor, not {} of component type {}",
+                        ty(input),
+                        comp(input)
+                    ),
+                    REEXPORT,
+                ));
+            }
+            let (want, comps): (&str, &[u64]) = match prop {
+                "translation" | "scale" => ("VEC3", &[5126]),
+                "rotation" => ("VEC4", &[5126, 5120, 5121, 5122, 5123]),
+                "weights" => ("SCALAR", &[5126, 5120, 5121, 5122, 5123]),
+                _ => continue, // the crate refuses unknown paths itself
+            };
+            if ty(output) != want || !comps.contains(&comp(output)) {
+                return Err(err(
+                    path,
+                    format!("{sf}.output"),
+                    format!(
+                        "a {prop} channel's output must be a {want} accessor of {}, not {} of component type {}",
+                        if comps.len() > 1 { "floats or normalised integers" } else { "floats" },
+                        ty(output),
+                        comp(output)
+                    ),
+                    REEXPORT,
+                ));
+            }
+            if prop == "weights" {
+                continue; // not read: any multiple of the targets' count
+            }
+            let per = match sampler.get("interpolation").and_then(Value::as_str) {
+                Some("CUBICSPLINE") => 3,
+                _ => 1,
+            };
+            if count(input) == 0 || count(output) != per * count(input) {
+                return Err(err(
+                    path,
+                    format!("{sf}.output"),
+                    format!(
+                        "the sampler has {} key times but {} outputs; a {} sampler needs {}",
+                        count(input),
+                        count(output),
+                        if per == 3 {
+                            "CUBICSPLINE"
+                        } else {
+                            "LINEAR or STEP"
+                        },
+                        if per == 3 {
+                            "three per key (in-tangent, value, out-tangent)"
+                        } else {
+                            "one per key"
+                        }
+                    ),
+                    REEXPORT,
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Accessor `v` (an index) of `accessors`, or an error naming `field`.
+fn accessor<'a>(
+    path: &Path,
+    accessors: &'a [Value],
+    v: Option<&Value>,
+    field: String,
+) -> Result<&'a Value, InputError> {
+    v.and_then(Value::as_u64)
+        .and_then(|k| accessors.get(k as usize))
+        .ok_or_else(|| {
+            err(
+                path,
+                field,
+                format!(
+                    "the accessor {} does not exist (the file has {})",
+                    v.map_or("(none)".into(), |v| v.to_string()),
+                    accessors.len()
+                ),
+                REEXPORT,
+            )
+        })
+}
+
+/// The animation `select` names (a name, or an index as text), else the first; None if the
+/// file has none. Warnings for what is not read go to `warnings`.
+pub fn read(
+    model: &super::Model,
+    select: Option<&str>,
+    warnings: &mut Vec<String>,
+) -> Result<Option<Clip>, InputError> {
+    let path = &model.path;
+    let doc = &model.doc;
+    if doc.skins().next().is_some() {
+        let w = format!(
+            "{}: skins: skinned meshes are not deformed by their joints; they render in their bind pose",
+            path.display()
+        );
+        if !warnings.contains(&w) {
+            warnings.push(w);
+        }
+    }
+    let anim = match select {
+        None => doc.animations().next(),
+        Some(s) => {
+            let found = doc.animations().find(|a| a.name() == Some(s)).or_else(|| {
+                s.parse::<usize>()
+                    .ok()
+                    .and_then(|k| doc.animations().nth(k))
+            });
+            if found.is_none() {
+                let names: Vec<String> = doc
+                    .animations()
+                    .map(|a| match a.name() {
+                        Some(n) => format!("{} (\"{n}\")", a.index()),
+                        None => a.index().to_string(),
+                    })
+                    .collect();
+                return Err(InputError::new(
+                    path,
+                    format!("the file has no animation named or numbered \"{s}\" (the shape's `animation`)"),
+                )
+                .field("animations")
+                .hint(if names.is_empty() {
+                    "the file has no animations: drop `animation`".to_string()
+                } else {
+                    format!("its animations are: {}", names.join(", "))
+                }));
+            }
+            found
+        }
+    };
+    let Some(anim) = anim else {
+        return Ok(None);
+    };
+    let data = |b: gltf::Buffer| model.buffers.get(b.index()).map(|d| &d.0[..]);
+    let mut clip = Clip {
+        nodes: HashMap::new(),
+    };
+    let at = format!("animations[{}]", anim.index());
+    for ch in anim.channels() {
+        let sf = format!("{at}.samplers[{}]", ch.sampler().index());
+        let reader = ch.reader(data);
+        let missing = |what: &str| {
+            err(
+                path,
+                format!("{sf}.{what}"),
+                format!("the sampler's {what} accessor has no data"),
+                REEXPORT,
+            )
+        };
+        let times: Vec<f32> = reader
+            .read_inputs()
+            .ok_or_else(|| missing("input"))?
+            .collect();
+        for (k, w) in times.windows(2).enumerate() {
+            if w[0].partial_cmp(&w[1]) != Some(std::cmp::Ordering::Less) {
+                return Err(err(
+                    path,
+                    format!("{sf}.input"),
+                    format!(
+                        "key times must increase: key {k} is at {} s and key {} at {} s",
+                        w[0],
+                        k + 1,
+                        w[1]
+                    ),
+                    "give each key a later time than the one before (glTF 2.0 §3.11: strictly increasing); re-export the animation",
+                ));
+            }
+        }
+        if let Some(k) = times.iter().position(|t| !t.is_finite()) {
+            return Err(err(
+                path,
+                format!("{sf}.input"),
+                format!(
+                    "key {k}'s time {} is not a finite number of seconds",
+                    times[k]
+                ),
+                REEXPORT,
+            ));
+        }
+        let interp = match ch.sampler().interpolation() {
+            gltf::animation::Interpolation::Linear => Interp::Linear,
+            gltf::animation::Interpolation::Step => Interp::Step,
+            gltf::animation::Interpolation::CubicSpline => Interp::Cubic,
+        };
+        let node = ch.target().node().index();
+        let outputs = reader.read_outputs().ok_or_else(|| missing("output"))?;
+        use gltf::animation::util::ReadOutputs;
+        let nonfinite = || {
+            err(
+                path,
+                format!("{sf}.output"),
+                "the sampler's output holds a value that is not finite",
+                REEXPORT,
+            )
+        };
+        let tracks = clip.nodes.entry(node).or_default();
+        match outputs {
+            ReadOutputs::Translations(it) => {
+                let v: Vec<Vec3> = it.map(Vec3::from).collect();
+                if !v.iter().all(|x| x.is_finite()) {
+                    return Err(nonfinite());
+                }
+                tracks.translation = Some(track(times, v, interp));
+            }
+            ReadOutputs::Scales(it) => {
+                let v: Vec<Vec3> = it.map(Vec3::from).collect();
+                if !v.iter().all(|x| x.is_finite()) {
+                    return Err(nonfinite());
+                }
+                tracks.scale = Some(track(times, v, interp));
+            }
+            ReadOutputs::Rotations(r) => {
+                let raw: Vec<Quat> = r.into_f32().map(Quat::from_array).collect();
+                if !raw.iter().all(|q| q.is_finite()) {
+                    return Err(nonfinite());
+                }
+                // Values are normalised (tangents are not: they are derivatives).
+                let mut v = raw;
+                let step = if interp == Interp::Cubic { 3 } else { 1 };
+                for (k, q) in v.iter_mut().enumerate() {
+                    if step == 1 || k % 3 == 1 {
+                        if q.length() < 1e-6 {
+                            return Err(err(
+                                path,
+                                format!("{sf}.output"),
+                                format!("rotation key {} is the zero quaternion", k / step),
+                                REEXPORT,
+                            ));
+                        }
+                        *q = q.normalize();
+                    }
+                }
+                tracks.rotation = Some(track(times, v, interp));
+            }
+            ReadOutputs::MorphTargetWeights(_) => {
+                warnings.push(format!(
+                    "{}: {at}: morph target weights (node {node}) are not animated; the mesh keeps its base shape",
+                    path.display()
+                ));
+            }
+        }
+    }
+    clip.nodes
+        .retain(|_, t| t.translation.is_some() || t.rotation.is_some() || t.scale.is_some());
+    Ok(Some(clip))
+}
+
+/// A track from a sampler's times and outputs (CUBICSPLINE: in-tangent, value, out-tangent
+/// per key, as the spec lays them out).
+fn track<T: crate::motion::keyframes::Key>(
+    times: Vec<f32>,
+    out: Vec<T>,
+    interp: Interp,
+) -> Track<T> {
+    if interp == Interp::Cubic {
+        let values = out.chunks_exact(3).map(|c| c[1]).collect();
+        let tangents = out.chunks_exact(3).map(|c| (c[0], c[2])).collect();
+        Track {
+            times,
+            values,
+            tangents,
+            interp,
+        }
+    } else {
+        Track {
+            times,
+            values: out,
+            tangents: Vec::new(),
+            interp,
+        }
+    }
+}
+
+/// `m` seen from a static parent `above`: above · m(t) as one motion, exact when `above` is
+/// a rotation, translation and uniform scale (every interpolation is then carried through:
+/// translation keys and tangents are mapped affinely and linearly, rotations multiplied on
+/// the left, scales scaled). None for a parent that scales unevenly, shears or mirrors.
+pub fn fold(above: Mat4, m: Motion) -> Option<Motion> {
+    let (s, r, _) = above.to_scale_rotation_translation();
+    let k = s.x;
+    let uniform = k > 0.0 && (s - Vec3::splat(k)).abs().max_element() <= 1e-4 * k;
+    let back = Mat4::from_scale_rotation_translation(Vec3::splat(k), r, above.w_axis.truncate());
+    let size = above
+        .abs()
+        .to_cols_array()
+        .iter()
+        .fold(1.0f32, |a, &b| a.max(b));
+    let err = (back - above)
+        .abs()
+        .to_cols_array()
+        .iter()
+        .fold(0.0f32, |a, &b| a.max(b));
+    if !uniform || err > 1e-4 * size {
+        return None;
+    }
+    let Motion {
+        mut translation,
+        mut rotation,
+        mut scale,
+    } = m;
+    translation
+        .values
+        .iter_mut()
+        .for_each(|v| *v = above.transform_point3(*v));
+    translation
+        .tangents
+        .iter_mut()
+        .for_each(|(a, b)| (*a, *b) = (above.transform_vector3(*a), above.transform_vector3(*b)));
+    rotation.values.iter_mut().for_each(|q| *q = r * *q);
+    rotation
+        .tangents
+        .iter_mut()
+        .for_each(|(a, b)| (*a, *b) = (r * *a, r * *b));
+    scale.values.iter_mut().for_each(|v| *v *= k);
+    scale
+        .tangents
+        .iter_mut()
+        .for_each(|(a, b)| (*a, *b) = (*a * k, *b * k));
+    Some(Motion {
+        translation,
+        rotation,
+        scale,
+    })
+}
