@@ -39,6 +39,8 @@ pub enum Stream {
     Material(usize),
     Swap(usize),
     Sensor,
+    /// A video sequence's camera trajectory (0) and moving objects (1 + k).
+    Motion(usize),
 }
 
 impl Stream {
@@ -53,6 +55,7 @@ impl Stream {
             Stream::Material(i) => (6, i),
             Stream::Swap(i) => (7, i),
             Stream::Sensor => (8, 0),
+            Stream::Motion(i) => (9, i),
         };
         (kind << 32) | i as u64
     }

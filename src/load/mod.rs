@@ -9,6 +9,7 @@ mod check;
 pub mod colour_space;
 mod emission;
 mod emitters;
+pub mod flow;
 pub mod extent;
 mod geometry;
 pub mod gltf;
