@@ -168,23 +168,36 @@ def test_forward_and_backward_flow_are_inverse(frames):
     ok = a.layer("flow_forward_occlusion") == 0
     xy = centres()[ok] + fwd[ok]
     ids_a = a.layer("instance")[ok]
-    # The four pixels around the landing point: inside the image, seen at t (backward
-    # occlusion 0) and on the same object, so the backward flow is smooth between them.
+    src = fwd[ok]
+    # The 4×4 pixels around the landing point's cell: inside the image, seen at t (backward
+    # occlusion 0) and on the same object, so the backward flow is smooth over them.
     x0, y0 = np.floor(xy[:, 0]).astype(int), np.floor(xy[:, 1]).astype(int)
-    inside = (x0 >= 0) & (y0 >= 0) & (x0 < W - 1) & (y0 < H - 1)
-    xy, ids_a, src = xy[inside], ids_a[inside], fwd[ok][inside]
-    x0, y0 = x0[inside], y0[inside]
+    inside = (x0 >= 1) & (y0 >= 1) & (x0 < W - 2) & (y0 < H - 2)
+    xy, ids_a, src, x0, y0 = xy[inside], ids_a[inside], src[inside], x0[inside], y0[inside]
     occ_b, ids_b = b.layer("flow_backward_occlusion"), b.layer("instance")
     same = np.ones(len(xy), bool)
+    for dx in (-1, 0, 1, 2):
+        for dy in (-1, 0, 1, 2):
+            same &= (occ_b[y0 + dy, x0 + dx] == 0) & (ids_b[y0 + dy, x0 + dx] == ids_a)
+    bwd = b.layer("flow_backward").astype(np.float64)
+    back = bilinear(bwd, xy[same])
+    err = np.abs(back + src[same]).max(axis=1)
+    # Bilinear interpolation over a pixel cell errs by at most (|f_xx| + |f_yy|)/8 there
+    # (it reproduces the xy term exactly). The bound per point takes the largest second
+    # differences of the backward flow at the cell's four pixels, doubled for the terms a
+    # second difference leaves out, plus 1e-3 px for the f32 positions.
+    dxx = np.abs(bwd[:, 2:] - 2 * bwd[:, 1:-1] + bwd[:, :-2]).max(axis=-1)
+    dyy = np.abs(bwd[2:] - 2 * bwd[1:-1] + bwd[:-2]).max(axis=-1)
+    xs, ys = x0[same], y0[same]
+    curv = np.zeros(len(xs))
     for dx in (0, 1):
         for dy in (0, 1):
-            same &= (occ_b[y0 + dy, x0 + dx] == 0) & (ids_b[y0 + dy, x0 + dx] == ids_a)
-    back = bilinear(b.layer("flow_backward").astype(np.float64), xy[same])
-    err = np.abs(back + src[same])
-    # Bilinear interpolation of a smooth field over one pixel errs by at most |f''|/8; the
-    # fields here bend by < 0.05 px per pixel², so 0.01 px bounds it (the flows are 3–10 px).
+            curv = np.maximum(curv, dxx[ys + dy, xs + dx - 1] + dyy[ys + dy - 1, xs + dx])
+    bound = 0.25 * curv + 1e-3
     assert same.sum() > 2000, same.sum()
-    assert np.percentile(err, 99) < 5e-3 and err.max() < 1e-2, (np.percentile(err, 99), err.max())
+    assert np.all(err <= bound), (err.max(), err[err > bound][:5], bound[err > bound][:5])
+    # Most of the image is smooth: there the two flows agree to a few thousandths of a pixel.
+    assert np.median(err) < 1e-3, np.median(err)
     # Where the mask says a point is seen next frame, the next frame's pixel there shows the
     # same object (rounding to the nearest pixel: all but the outline's pixels agree).
     near = np.rint(xy).astype(int)
