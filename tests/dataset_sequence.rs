@@ -24,7 +24,10 @@ fn config(dir: &Path, edit: impl Fn(String) -> String) -> PathBuf {
         )
         .replace("sequences: 3", "sequences: 2")
         .replace("frames_per_sequence: 8", "frames_per_sequence: 3")
-        .replace("spp: 8, resolution: (96, 72)", "spp: 2, resolution: (32, 24)");
+        .replace(
+            "spp: 8, resolution: (96, 72)",
+            "spp: 2, resolution: (32, 24)",
+        );
     let p = dir.join("dataset.ron");
     std::fs::write(&p, edit(text)).unwrap();
     p
@@ -58,8 +61,14 @@ fn sequence_frames_are_reproducible_alone_and_move_in_time() {
         assert_eq!(f["sequence"], i / 3, "frame {i}");
         assert_eq!(f["index"], i % 3, "frame {i}");
         let t = f["time"].as_f64().unwrap();
-        assert!((t - (i % 3) as f64 / fps).abs() < 1e-6, "frame {i}: time {t}");
-        assert!(j["flow"]["step"].as_f64().unwrap() > 0.0, "frame {i}: flow block");
+        assert!(
+            (t - (i % 3) as f64 / fps).abs() < 1e-6,
+            "frame {i}: time {t}"
+        );
+        assert!(
+            j["flow"]["step"].as_f64().unwrap() > 0.0,
+            "frame {i}: flow block"
+        );
         let names: Vec<&str> = j["aovs"]
             .as_array()
             .unwrap()
@@ -111,11 +120,27 @@ fn bad_sequence_fields_are_refused() {
     let dir = workdir("seqbad");
     for (k, (from, to, needles)) in [
         ("fps: 12", "fps: 0", vec!["fps", "positive"]),
-        ("sequences: 2,", "sequences: 2, frames: 7,", vec!["frames", "product"]),
-        ("frames_per_sequence: 3", "frames_per_sequence: 0", vec!["frames_per_sequence"]),
+        (
+            "sequences: 2,",
+            "sequences: 2, frames: 7,",
+            vec!["frames", "product"],
+        ),
+        (
+            "frames_per_sequence: 3",
+            "frames_per_sequence: 0",
+            vec!["frames_per_sequence"],
+        ),
         ("sequences: 2,", "", vec!["sequences", "not given"]),
-        ("shapes: [\"ball\", \"box\"]", "shapes: [\"nope\"]", vec!["motion.objects", "nope"]),
-        ("speed: (0.1, 0.3)", "speed: (0.3, 0.1)", vec!["motion.objects[0].speed", "increasing"]),
+        (
+            "shapes: [\"ball\", \"box\"]",
+            "shapes: [\"nope\"]",
+            vec!["motion.objects", "nope"],
+        ),
+        (
+            "speed: (0.1, 0.3)",
+            "speed: (0.3, 0.1)",
+            vec!["motion.objects[0].speed", "increasing"],
+        ),
     ]
     .into_iter()
     .enumerate()

@@ -57,7 +57,11 @@ fn a_sliding_sphere_flows_by_its_closed_form() {
         SLIDING,
     ));
     let ch = |n: &str| f.channel(n).unwrap_or_else(|| panic!("{n}")).to_vec();
-    let (fx, fy, bx) = (ch("flow_forward.X"), ch("flow_forward.Y"), ch("flow_backward.X"));
+    let (fx, fy, bx) = (
+        ch("flow_forward.X"),
+        ch("flow_forward.Y"),
+        ch("flow_backward.X"),
+    );
     let (sx, cx, occ) = (
         ch("scene_flow_forward.X"),
         ch("scene_flow_backward_camera.X"),
@@ -68,13 +72,25 @@ fn a_sliding_sphere_flows_by_its_closed_form() {
     let mut on = 0;
     for i in 0..(W * H) as usize {
         if id[i] == 0 {
-            assert_eq!((fx[i], fy[i], sx[i], occ[i]), (0.0, 0.0, 0.0, 1.0), "pixel {i}");
+            assert_eq!(
+                (fx[i], fy[i], sx[i], occ[i]),
+                (0.0, 0.0, 0.0, 1.0),
+                "pixel {i}"
+            );
             continue;
         }
         on += 1;
-        assert!((fx[i] - px).abs() < 1e-4 && fy[i].abs() < 1e-4, "pixel {i}: {} {}", fx[i], fy[i]);
+        assert!(
+            (fx[i] - px).abs() < 1e-4 && fy[i].abs() < 1e-4,
+            "pixel {i}: {} {}",
+            fx[i],
+            fy[i]
+        );
         assert!((bx[i] + px).abs() < 1e-4, "pixel {i}: backward {}", bx[i]);
-        assert!((sx[i] - 0.6).abs() < 1e-5 && (cx[i] + 0.6).abs() < 1e-5, "pixel {i}");
+        assert!(
+            (sx[i] - 0.6).abs() < 1e-5 && (cx[i] + 0.6).abs() < 1e-5,
+            "pixel {i}"
+        );
         assert_eq!(occ[i], 0.0, "pixel {i}: nothing hides the sphere");
     }
     assert!(on > 50, "{on} pixels on the sphere");
@@ -146,7 +162,9 @@ fn flow_layers_leave_the_colour_unchanged() {
     for c in &b.channels {
         let x = a.channel(&c.name).unwrap();
         assert!(
-            x.iter().zip(&c.data).all(|(p, q)| p.to_bits() == q.to_bits()),
+            x.iter()
+                .zip(&c.data)
+                .all(|(p, q)| p.to_bits() == q.to_bits()),
             "{} differs",
             c.name
         );
@@ -184,7 +202,12 @@ fn refused(name: &str, text: &str, extra: &[&str], needles: &[&str]) {
 #[test]
 fn flow_without_a_frame_rate_is_refused() {
     let s = scene(0.5, r#""flow_forward""#, SLIDING).replace("fps: 10, ", "");
-    refused("nofps", &s, &[], &["camera.fps", "flow_forward", "--fps 30"]);
+    refused(
+        "nofps",
+        &s,
+        &[],
+        &["camera.fps", "flow_forward", "--fps 30"],
+    );
     // --fps gives it.
     let dir = workdir("cli-fps");
     std::fs::write(dir.join("scene.ron"), &s).unwrap();
@@ -208,7 +231,12 @@ fn a_bad_frame_rate_is_refused() {
 #[test]
 fn flow_of_a_still_scene_is_refused() {
     let s = scene(0.5, r#""flow_backward""#, "(shape: Sphere(radius: 1))");
-    refused("still", &s, &[], &["aovs[0]", "nothing in the scene moves", "animate"]);
+    refused(
+        "still",
+        &s,
+        &[],
+        &["aovs[0]", "nothing in the scene moves", "animate"],
+    );
 }
 
 #[test]

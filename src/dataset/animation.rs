@@ -37,7 +37,12 @@ pub fn write(sequences: &[Vec<PathBuf>], fps: f32, path: &Path) -> Result<Option
         for (s, seq) in seqs.iter().enumerate() {
             let tile = open(&seq[k])?;
             let fit = imageops::crop_imm(&tile, 0, 0, tw.min(tile.width()), th.min(tile.height()));
-            imageops::replace(&mut c, &*fit, (GAP + s as u32 * (tw + GAP)) as i64, GAP as i64);
+            imageops::replace(
+                &mut c,
+                &*fit,
+                (GAP + s as u32 * (tw + GAP)) as i64,
+                GAP as i64,
+            );
         }
         canvases.push(c);
     }

@@ -121,12 +121,18 @@ pub fn animate(
         drawn.insert("camera".into(), p);
     }
     let mut objects = Vec::new();
-    let names = m.objects.iter().flat_map(|o| o.shapes.iter().map(move |n| (o, n)));
+    let names = m
+        .objects
+        .iter()
+        .flat_map(|o| o.shapes.iter().map(move |n| (o, n)));
     for (j, (om, name)) in names.enumerate() {
         let Some(&idx) = base.names.get(name) else {
-            return Err(InputError::new(&base.file, format!("no shape of the base scene is named \"{name}\""))
-                .field("motion.objects")
-                .hint("list shapes by their `name` in the base scene"));
+            return Err(InputError::new(
+                &base.file,
+                format!("no shape of the base scene is named \"{name}\""),
+            )
+            .field("motion.objects")
+            .hint("list shapes by their `name` in the base scene"));
         };
         if !shown[idx] {
             continue;
@@ -167,7 +173,9 @@ fn camera_keys(
     times: &[f32],
     r: &mut Rng,
 ) -> Result<(Vec<KeyConfig>, Value), InputError> {
-    let look = ops.iter().rposition(|o| matches!(o, TransformOp::LookAt { .. }));
+    let look = ops
+        .iter()
+        .rposition(|o| matches!(o, TransformOp::LookAt { .. }));
     let key = |time: f32, origin: Vec3, target: Vec3, up: [f32; 3]| {
         let mut to_world = ops[..look.unwrap_or(0)].to_vec();
         to_world.push(TransformOp::LookAt {
@@ -178,7 +186,11 @@ fn camera_keys(
         KeyConfig { time, to_world }
     };
     if let Trajectory::Keyframes(keys) = tr {
-        let up = base.config.camera.as_ref().map_or([0.0, 1.0, 0.0], |c| c.up);
+        let up = base
+            .config
+            .camera
+            .as_ref()
+            .map_or([0.0, 1.0, 0.0], |c| c.up);
         let out = keys
             .iter()
             .map(|k| key(k.time, k.origin.into(), k.target.into(), up))
@@ -200,8 +212,12 @@ fn camera_keys(
             let sign = if r.unit() < 0.5 { -1.0 } else { 1.0 };
             let w = sign * r.range(*speed);
             let rel = o - tg;
-            let at = |t: f32| tg + Mat4::from_rotation_y((w * t).to_radians()).transform_vector3(rel);
-            (times.iter().map(|&t| at(t)).collect(), json!({"trajectory": "orbit", "degrees_per_second": w}))
+            let at =
+                |t: f32| tg + Mat4::from_rotation_y((w * t).to_radians()).transform_vector3(rel);
+            (
+                times.iter().map(|&t| at(t)).collect(),
+                json!({"trajectory": "orbit", "degrees_per_second": w}),
+            )
         }
         Trajectory::Dolly { speed } => {
             let dist = (tg - o).length();
@@ -209,7 +225,10 @@ fn camera_keys(
             // Never closer than a fifth of the start distance (nor through the target).
             let v = drawn.min(0.8 * dist / span.max(1e-6));
             let d = (tg - o) / dist;
-            (times.iter().map(|&t| o + d * v * t).collect(), json!({"trajectory": "dolly", "speed": v, "drawn_speed": drawn}))
+            (
+                times.iter().map(|&t| o + d * v * t).collect(),
+                json!({"trajectory": "dolly", "speed": v, "drawn_speed": drawn}),
+            )
         }
         Trajectory::Walk { speed, turn } => {
             let v = r.range(*speed);
@@ -227,11 +246,18 @@ fn camera_keys(
                 heading += (rate * dt).to_radians();
                 pos += step(heading);
             }
-            (path, json!({"trajectory": "walk", "speed": v, "max_turn_degrees_per_second": turn}))
+            (
+                path,
+                json!({"trajectory": "walk", "speed": v, "max_turn_degrees_per_second": turn}),
+            )
         }
         Trajectory::Keyframes(_) => unreachable!("returned above"),
     };
-    let keys = times.iter().zip(path).map(|(&t, o)| key(t, o, tg, up)).collect();
+    let keys = times
+        .iter()
+        .zip(path)
+        .map(|(&t, o)| key(t, o, tg, up))
+        .collect();
     Ok((keys, p))
 }
 
@@ -249,7 +275,10 @@ fn object_keys(
     // What the frame added to the base scene's transform (the placement): the base bounds
     // are the shape's world box before it.
     let added = &ops[base.scene.shapes[idx].to_world.len().min(ops.len())..];
-    let field = format!("motion.objects: \"{}\"", scene.shapes[idx].name.as_deref().unwrap_or(""));
+    let field = format!(
+        "motion.objects: \"{}\"",
+        scene.shapes[idx].name.as_deref().unwrap_or("")
+    );
     let p = crate::load::transform(added, &base.file, &field)?.m;
     let (lo, hi) = base.bounds[idx];
     let centre = p.transform_point3(0.5 * (lo + hi));
@@ -261,9 +290,12 @@ fn object_keys(
     let spin = r.range(om.spin);
     let mut v = drawn;
     // On a support: slow down until the footprint stays on its top face at every key.
-    let support = base.config.objects.place.as_ref().filter(|pl| {
-        pl.shapes.iter().any(|n| base.names.get(n) == Some(&idx))
-    });
+    let support = base
+        .config
+        .objects
+        .place
+        .as_ref()
+        .filter(|pl| pl.shapes.iter().any(|n| base.names.get(n) == Some(&idx)));
     if let Some(pl) = support {
         let (slo, shi) = base.bounds[base.names[&pl.support]];
         for &t in [times[0], times[times.len() - 1]].iter() {
@@ -325,7 +357,10 @@ pub fn check(c: &mut super::DatasetConfig, file: &std::path::Path) -> Result<(),
     if !(c.fps.is_finite() && c.fps > 0.0 && c.fps <= 1e6) {
         return err(
             "fps",
-            format!("fps {} must be a positive number of frames per second", c.fps),
+            format!(
+                "fps {} must be a positive number of frames per second",
+                c.fps
+            ),
             "e.g. fps: 24",
         );
     }
@@ -333,14 +368,22 @@ pub fn check(c: &mut super::DatasetConfig, file: &std::path::Path) -> Result<(),
     if total > super::config::MAX_FRAMES as u64 {
         return err(
             "sequences",
-            format!("{} sequences of {} frames make {total} frames, more than {}", c.sequences, c.frames_per_sequence, super::config::MAX_FRAMES),
+            format!(
+                "{} sequences of {} frames make {total} frames, more than {}",
+                c.sequences,
+                c.frames_per_sequence,
+                super::config::MAX_FRAMES
+            ),
             "split a larger dataset into several configs with different seeds",
         );
     }
     if c.frames != 0 && c.frames as u64 != total {
         return err(
             "frames",
-            format!("frames: {} differs from sequences × frames_per_sequence = {total}", c.frames),
+            format!(
+                "frames: {} differs from sequences × frames_per_sequence = {total}",
+                c.frames
+            ),
             "leave frames out with sequences (it is their product)",
         );
     }
@@ -349,7 +392,10 @@ pub fn check(c: &mut super::DatasetConfig, file: &std::path::Path) -> Result<(),
     if !(m.shutter.is_finite() && (0.0..=1.0).contains(&m.shutter)) {
         return err(
             "motion.shutter",
-            format!("shutter {} must be a fraction of the frame interval in [0, 1]", m.shutter),
+            format!(
+                "shutter {} must be a fraction of the frame interval in [0, 1]",
+                m.shutter
+            ),
             "e.g. shutter: 0.5 (a 180° shutter), 0 for instants",
         );
     }
@@ -357,26 +403,45 @@ pub fn check(c: &mut super::DatasetConfig, file: &std::path::Path) -> Result<(),
         .objects
         .iter()
         .enumerate()
-        .flat_map(|(k, o)| [(format!("motion.objects[{k}].speed"), o.speed), (format!("motion.objects[{k}].spin"), o.spin)])
+        .flat_map(|(k, o)| {
+            [
+                (format!("motion.objects[{k}].speed"), o.speed),
+                (format!("motion.objects[{k}].spin"), o.spin),
+            ]
+        })
         .chain(match &m.camera {
-            Some(Trajectory::Orbit { speed } | Trajectory::Dolly { speed } | Trajectory::Walk { speed, .. }) => {
-                Some(("motion.camera.speed".to_string(), *speed))
-            }
+            Some(
+                Trajectory::Orbit { speed }
+                | Trajectory::Dolly { speed }
+                | Trajectory::Walk { speed, .. },
+            ) => Some(("motion.camera.speed".to_string(), *speed)),
             _ => None,
         });
     for (field, (lo, hi)) in ranges {
         if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-            return err(&field, format!("the range ({lo}, {hi}) must be finite and increasing"), "give (lo, hi) with lo ≤ hi");
+            return err(
+                &field,
+                format!("the range ({lo}, {hi}) must be finite and increasing"),
+                "give (lo, hi) with lo ≤ hi",
+            );
         }
     }
     if let Some(Trajectory::Walk { turn, .. }) = &m.camera {
         if !(turn.is_finite() && *turn >= 0.0) {
-            return err("motion.camera.turn", format!("turn {turn} must be ≥ 0 degrees per second"), "e.g. turn: 30");
+            return err(
+                "motion.camera.turn",
+                format!("turn {turn} must be ≥ 0 degrees per second"),
+                "e.g. turn: 30",
+            );
         }
     }
     if let Some(Trajectory::Keyframes(keys)) = &m.camera {
         if keys.is_empty() {
-            return err("motion.camera", "Keyframes needs at least one key".into(), "e.g. Keyframes([(time: 0, origin: (0, 1, 4), target: (0, 0, 0))])");
+            return err(
+                "motion.camera",
+                "Keyframes needs at least one key".into(),
+                "e.g. Keyframes([(time: 0, origin: (0, 1, 4), target: (0, 0, 0))])",
+            );
         }
     }
     Ok(())
@@ -397,7 +462,11 @@ pub fn previews(
     }
     let f = c.frames_per_sequence;
     let whole: Vec<Vec<std::path::PathBuf>> = (0..c.sequences)
-        .map(|s| (s * f..(s + 1) * f).map(|i| (listed.contains(&i), png(i))).collect::<Vec<_>>())
+        .map(|s| {
+            (s * f..(s + 1) * f)
+                .map(|i| (listed.contains(&i), png(i)))
+                .collect::<Vec<_>>()
+        })
         .filter(|seq| seq.iter().all(|(l, p)| *l && p.is_file()))
         .map(|seq| seq.into_iter().map(|(_, p)| p).collect())
         .collect();

@@ -150,7 +150,13 @@ impl FlowScene {
 
     /// Each pixel's track to the frame `dir` (row-major, `hits` from `aov::first_hits`;
     /// `source`: the frame's own camera).
-    pub fn tracks(&self, source: &Camera, hits: &[Option<Hit>], width: u32, dir: Dir) -> Vec<Track> {
+    pub fn tracks(
+        &self,
+        source: &Camera,
+        hits: &[Option<Hit>],
+        width: u32,
+        dir: Dir,
+    ) -> Vec<Track> {
         let (t, t2) = (self.time, self.time_of(dir));
         let (src, dst) = match dir {
             Dir::Forward => (View::new(source), View::new(&self.forward)),

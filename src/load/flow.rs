@@ -65,7 +65,10 @@ pub fn setup(cfg: &SceneConfig, file: &Path) -> Result<Option<FlowScene>, InputE
     }
     let span = format!("[{}, {}] s", time - step, time + step);
     let job = super::build(c, file).map_err(|mut e| {
-        e.message = format!("{} (building the flow layers' motion over {span})", e.message);
+        e.message = format!(
+            "{} (building the flow layers' motion over {span})",
+            e.message
+        );
         e
     })?;
     let scene = job.scene;

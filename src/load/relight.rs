@@ -34,7 +34,10 @@ pub fn geometry_key(cfg: &SceneConfig) -> String {
             .is_some()
     });
     if moving || flow {
-        let time = (&cfg.camera.shutter, flow.then_some((&cfg.camera, &cfg.aovs)));
+        let time = (
+            &cfg.camera.shutter,
+            flow.then_some((&cfg.camera, &cfg.aovs)),
+        );
         return serde_json::to_string(&(shapes, cfg.accel, time)).expect("configs serialise");
     }
     serde_json::to_string(&(shapes, cfg.accel)).expect("configs serialise")
