@@ -55,7 +55,7 @@ pub fn write(sequences: &[Vec<PathBuf>], fps: f32, path: &Path) -> Result<Option
         enc.set_depth(png::BitDepth::Eight);
         let e = |e: png::EncodingError| e.to_string();
         enc.set_animated(frames as u32, 0).map_err(e)?;
-        enc.set_frame_delay(1000.min(u16::MAX), den).map_err(e)?;
+        enc.set_frame_delay(1000, den).map_err(e)?;
         let mut w = enc.write_header().map_err(e)?;
         for c in &canvases {
             w.write_image_data(c.as_raw()).map_err(e)?;
