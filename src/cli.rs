@@ -82,6 +82,10 @@ pub struct RenderArgs {
     /// open = close = T; animated transforms take their values then).
     #[arg(long, allow_hyphen_values = true)]
     pub time: Option<f32>,
+    /// Frames per second (overrides the scene's camera.fps): the flow layers follow each
+    /// pixel's point to the frames 1/fps later and earlier.
+    #[arg(long)]
+    pub fps: Option<f32>,
     /// Acceleration structure (overrides the scene's `accel`); `embree` needs prism built with
     /// `--features embree`.
     #[arg(long, value_enum)]
@@ -259,6 +263,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if let Some(t) = args.time {
             crate::load::motion::set_time(cfg, t);
+        }
+        if args.fps.is_some() {
+            cfg.camera.fps = args.fps;
         }
         if let Some(accel) = args.accel {
             cfg.accel = accel;

@@ -249,6 +249,12 @@ impl Scene {
         self.timing.as_ref().map_or(0.0, |t| t.shutter.open)
     }
 
+    /// The motion of shape `shape` while the shutter is open (None: it stays still, or the
+    /// scene was built at an instant).
+    pub fn shape_motion(&self, shape: u32) -> Option<&crate::motion::Motion> {
+        self.moving.as_ref()?.motion(shape)
+    }
+
     /// The camera ray through `film` (pixel row `row`): at the instant the scene was built
     /// for, or with an open shutter at a time the sampler draws (`motion::Timing`).
     #[inline(always)]

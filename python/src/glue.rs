@@ -136,6 +136,8 @@ pub fn shell(job: &Job) -> Job {
         inputs: job.inputs.clone(),
         aovs: job.aovs.clone(),
         objects: job.objects.clone(),
+        // The flow layers are in the film by now; the sidecar needs none of its geometry.
+        flow: None,
     }
 }
 

@@ -175,6 +175,14 @@ impl Moving {
             })
     }
 
+    /// The motion of scene shape `shape`, if it is one of these.
+    pub fn motion(&self, shape: u32) -> Option<&Motion> {
+        self.items
+            .iter()
+            .find(|it| it.shape == shape)
+            .map(|it| &it.motion)
+    }
+
     /// World bounds of the moving shapes over the shutter interval.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.world

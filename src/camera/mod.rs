@@ -97,6 +97,25 @@ impl Camera {
         }
     }
 
+    /// The same camera at another pose (a moving camera at another time: `integrator::flow`).
+    pub fn with_to_world(&self, to_world: Transform) -> Camera {
+        let pin = |p: &Pinhole| {
+            Pinhole::with_intrinsics(to_world, p.intrinsics, p.near_clip(), p.far_clip())
+        };
+        match self {
+            Camera::Pinhole(p) => Camera::Pinhole(pin(p)),
+            Camera::Distorted(p, d) => Camera::Distorted(pin(p), *d),
+            Camera::ThinLens(t) => Camera::ThinLens(ThinLens {
+                pinhole: pin(&t.pinhole),
+                ..t.clone()
+            }),
+            Camera::Orthographic(o) => Camera::Orthographic(Orthographic {
+                to_world,
+                ..o.clone()
+            }),
+        }
+    }
+
     pub fn to_world(&self) -> &Transform {
         match self {
             Camera::Pinhole(p) | Camera::Distorted(p, _) => &p.to_world,

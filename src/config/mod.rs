@@ -119,6 +119,10 @@ pub struct CameraConfig {
     /// When the film records (`motion::ShutterConfig`); default: the instant 0.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shutter: Option<ShutterConfig>,
+    /// Frames per second: the flow layers follow each pixel's surface point to the frames
+    /// 1/fps later and earlier (`flow_forward`, `flow_backward`; docs/sidecar.md, "Flow").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fps: Option<f32>,
 }
 
 impl Default for CameraConfig {
@@ -134,6 +138,7 @@ impl Default for CameraConfig {
             distortion: None,
             animation: None,
             shutter: None,
+            fps: None,
         }
     }
 }

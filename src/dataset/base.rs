@@ -97,7 +97,14 @@ impl Base {
                     }
                 }
             }
-            let job = crate::load::build(scene.clone(), &scene_file)?;
+            // Flow layers follow the frames' motion (dataset::sequence), which the base lacks.
+            let mut probe = scene.clone();
+            probe.aovs.retain(|a| {
+                crate::film::Aov::parse(a.trim())
+                    .and_then(|a| a.flow_dir())
+                    .is_none()
+            });
+            let job = crate::load::build(probe, &scene_file)?;
             Ok((scene, job))
         });
         let (mut scene, mut job) = loaded?;

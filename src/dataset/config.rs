@@ -34,7 +34,8 @@ use std::path::Path;
 pub struct DatasetConfig {
     /// The base scene file, relative to the dataset config.
     pub scene: String,
-    /// Number of frames (indices 0 .. frames).
+    /// Number of frames (indices 0 .. frames); with `sequences`, their product (may be left out).
+    #[serde(default)]
     pub frames: u32,
     /// Dataset seed: frame i's parameters and render seed derive from (seed, i) alone.
     #[serde(default)]
@@ -68,6 +69,24 @@ pub struct DatasetConfig {
     /// them.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub splits: BTreeMap<String, (u32, u32)>,
+    /// Video (src/dataset/sequence.rs): `sequences` runs of `frames_per_sequence` frames at
+    /// `fps`, each moved by `motion`. 0: frames are independent.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub sequences: u32,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub frames_per_sequence: u32,
+    #[serde(default, skip_serializing_if = "is_zero_f32")]
+    pub fps: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<super::sequence::MotionConfig>,
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
+}
+
+fn is_zero_f32(x: &f32) -> bool {
+    *x == 0.0
 }
 
 /// `sensor: (files: ["../sensors/nikon_d810.ron", "../sensors/cie1931.ron"], exposure: (-1, 1))`:
@@ -369,7 +388,8 @@ impl DatasetConfig {
             )
             .hint("save the config as UTF-8 text")
         })?;
-        let config = Self::parse(&text, path)?;
+        let mut config = Self::parse(&text, path)?;
+        super::sequence::check(&mut config, path)?;
         // Every frame is planned (and listed) before the first renders: bound the list.
         if config.frames == 0 || config.frames > MAX_FRAMES {
             return Err(InputError::new(

@@ -4,6 +4,7 @@
 //! config for each frame and renders it through `frame::render_frame`, so every channel a scene
 //! can ask for comes along. configs/README.md documents the config and the output folder.
 
+pub mod animation;
 pub mod apply;
 pub mod asset_folder;
 pub mod assets;
@@ -20,6 +21,7 @@ pub mod manifest;
 pub mod place;
 pub mod plan;
 pub mod run;
+pub mod sequence;
 pub mod sheet;
 pub mod sheet_layers;
 pub mod textures;

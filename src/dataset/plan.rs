@@ -33,6 +33,8 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
     let mut scene = base.scene.clone();
     let mut params = serde_json::Map::new();
     let seed = Rng::new(c.seed, i, Stream::Render).next_u64();
+    // The variations' draws: per sequence in a video dataset, else per frame.
+    let d = super::sequence::draw_index(base, i);
     scene.sampler.seed = seed;
     if let Some(spp) = &c.outputs.spp {
         scene.sampler.spp = *spp;
@@ -49,7 +51,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
     let mut shown = vec![true; scene.shapes.len()];
     let mut subsets = Vec::new();
     for (k, s) in c.objects.subsets.iter().enumerate() {
-        let mut r = Rng::new(c.seed, i, Stream::Subset(k));
+        let mut r = Rng::new(c.seed, d, Stream::Subset(k));
         let n = r.int(s.shown.0, s.shown.1) as usize;
         let pick = r.subset(s.shapes.len(), n);
         for (j, name) in s.shapes.iter().enumerate() {
@@ -65,7 +67,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
     }
     let mut bounds = base.bounds.clone();
     // Asset-folder meshes: which show, placed with the listed shapes.
-    let assets = super::asset_folder::draw(base, i, &mut shown);
+    let assets = super::asset_folder::draw(base, d, &mut shown);
     let place = match &assets {
         Some((p, drawn)) => {
             params.insert("assets".into(), drawn.clone());
@@ -74,17 +76,17 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         None => c.objects.place.as_ref(),
     };
     if let Some(p) = place {
-        let placed = super::place::place(base, p, i, &shown, &mut scene, &mut bounds)?;
+        let placed = super::place::place(base, p, d, &shown, &mut scene, &mut bounds)?;
         params.insert("placement".into(), placed);
     }
 
     // K and distortion first: the pose's keep_in_view test projects through K.
-    let intrinsics = super::intrinsics::draw(base, i, &mut scene.camera);
+    let intrinsics = super::intrinsics::draw(base, d, &mut scene.camera);
     if let Some(k) = intrinsics {
         params.insert("intrinsics".into(), k);
     }
     if let Some(cam) = &c.camera {
-        let mut r = Rng::new(c.seed, i, Stream::Camera);
+        let mut r = Rng::new(c.seed, d, Stream::Camera);
         let watched: Vec<usize> = cam
             .keep_in_view
             .iter()
@@ -163,7 +165,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
 
     let mut lights = Vec::new();
     for (k, l) in c.lights.iter().enumerate() {
-        let mut r = Rng::new(c.seed, i, Stream::Light(k));
+        let mut r = Rng::new(c.seed, d, Stream::Light(k));
         let intensity = l.intensity.map(|x| r.range(x));
         let temperature = l.temperature.map(|x| r.range(x));
         // Drawn last from the light's stream: configs without it draw as before.
@@ -223,7 +225,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
     }
 
     if let Some(e) = &c.envmap {
-        let mut r = Rng::new(c.seed, i, Stream::Envmap);
+        let mut r = Rng::new(c.seed, d, Stream::Envmap);
         let file = (!e.files.is_empty()).then(|| &e.files[r.index(e.files.len())]);
         let angle = if e.rotate { r.range((0.0, 360.0)) } else { 0.0 };
         let Ok(LightRef::Emitter(k)) = base.light(&e.target, "envmap.target") else {
@@ -246,7 +248,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
 
     let mut mats = Vec::new();
     for (k, m) in c.materials.iter().enumerate() {
-        let mut r = Rng::new(c.seed, i, Stream::Material(k));
+        let mut r = Rng::new(c.seed, d, Stream::Material(k));
         let range = scene.spectral.range;
         let mat = scene.materials.get_mut(&m.target).expect("checked at load");
         let mut entry = None;
@@ -285,13 +287,13 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
     if !mats.is_empty() {
         params.insert("materials".into(), Value::Array(mats));
     }
-    if let Some(t) = super::textures::draw(base, i, &mut scene) {
+    if let Some(t) = super::textures::draw(base, d, &mut scene) {
         params.insert("textures".into(), t);
     }
 
     let mut swaps = Vec::new();
     for (k, s) in c.swaps.iter().enumerate() {
-        let mut r = Rng::new(c.seed, i, Stream::Swap(k));
+        let mut r = Rng::new(c.seed, d, Stream::Swap(k));
         let m = &s.materials[r.index(s.materials.len())];
         scene.shapes[base.names[&s.shape]].material = Some(m.clone());
         swaps.push(json!({"shape": s.shape, "material": m}));
@@ -302,7 +304,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
 
     let mut exposure_scale = 1.0;
     if let Some(v) = &c.sensor {
-        let mut r = Rng::new(c.seed, i, Stream::Sensor);
+        let mut r = Rng::new(c.seed, d, Stream::Sensor);
         let file = v.files.as_ref().map(|f| &f[r.index(f.len())]);
         if let Some(f) = file {
             let dir = base.file.parent().unwrap_or(Path::new("."));
@@ -322,6 +324,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         s.id = *id;
     }
     scene.labels = base.labels.clone();
+    super::sequence::animate(base, i, &mut scene, &shown, &mut params)?;
     // Hidden shapes go last: every index above refers to the base scene's shapes.
     let mut k = 0;
     scene.shapes.retain(|_| {

@@ -292,6 +292,11 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     if let Some(p) = super::sheet::write_frames(&pngs, &base.sheet_layers, &sheet)? {
         crate::error::note(format_args!("contact sheet: {}", p.display()));
     }
+    let png = |i: u32| out.stem(i).with_extension("png");
+    let listed = out.listed()?;
+    if let Some(p) = super::sequence::previews(&base, &listed, png, &out.root)? {
+        crate::error::note(format_args!("preview animation: {}", p.display()));
+    }
     summary.seconds = t0.elapsed().as_secs_f64();
     crate::error::note(format_args!(
         "dataset: {} frame(s) selected: {} rendered, {} skipped (already done), {} failed, in {:.2} s (geometry built {} time(s)) -> {}",

@@ -45,6 +45,8 @@ pub enum Stream {
     Texture(usize),
     /// Which meshes of an asset folder show (src/dataset/asset_folder.rs).
     Assets,
+    /// A video sequence's camera trajectory (0) and moving objects (1 + k).
+    Motion(usize),
 }
 
 impl Stream {
@@ -62,6 +64,7 @@ impl Stream {
             Stream::Intrinsics => (9, 0),
             Stream::Texture(i) => (10, i),
             Stream::Assets => (11, 0),
+            Stream::Motion(i) => (12, i),
         };
         (kind << 32) | i as u64
     }

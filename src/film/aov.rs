@@ -22,6 +22,21 @@
 //!   counted).
 //! - `spp`: the number of camera samples each pixel's estimate averaged (32-bit unsigned; the
 //!   scene's spp everywhere unless adaptive, whose pilot batch is not counted).
+//! - Flow (`integrator::flow`; docs/sidecar.md, "Flow"): the surface point seen through the
+//!   pixel centre at the frame time t, followed to the frame t ± step (`camera.fps`):
+//!   `flow_*` in pixels on OpenCV's image axes (x right, y down), from this frame's pixel
+//!   centre to where that point projects then; `scene_flow_*` its 3D displacement in the world
+//!   and in OpenCV's camera frames (each time's own camera); `flow_*_occlusion` 1 where it is
+//!   hidden then, leaves the frame, or there is no surface. Background: flows 0, occlusion 1.
+
+/// The neighbouring frame a flow layer follows the surface point to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Dir {
+    /// The frame one step later (t + 1/fps).
+    Forward,
+    /// The frame one step earlier (t − 1/fps).
+    Backward,
+}
 
 /// One AOV layer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -41,10 +56,18 @@ pub enum Aov {
     Stderr,
     Albedo,
     Spp,
+    /// Optical flow to the neighbouring frame, pixels.
+    Flow(Dir),
+    /// 1 where the point is hidden at the neighbouring frame or leaves it.
+    FlowOcclusion(Dir),
+    /// The point's displacement to the neighbouring frame, world frame.
+    SceneFlow(Dir),
+    /// The same in OpenCV's camera frames (each time's own camera).
+    SceneFlowCamera(Dir),
 }
 
 impl Aov {
-    pub const ALL: [Aov; 15] = [
+    pub const ALL: [Aov; 23] = [
         Aov::Distance,
         Aov::Depth,
         Aov::Position,
@@ -60,6 +83,14 @@ impl Aov {
         Aov::Stderr,
         Aov::Albedo,
         Aov::Spp,
+        Aov::Flow(Dir::Forward),
+        Aov::Flow(Dir::Backward),
+        Aov::FlowOcclusion(Dir::Forward),
+        Aov::FlowOcclusion(Dir::Backward),
+        Aov::SceneFlow(Dir::Forward),
+        Aov::SceneFlow(Dir::Backward),
+        Aov::SceneFlowCamera(Dir::Forward),
+        Aov::SceneFlowCamera(Dir::Backward),
     ];
 
     /// The name in `aovs: [...]` and `--aovs`, and the EXR layer's name.
@@ -80,6 +111,24 @@ impl Aov {
             Aov::Stderr => "stderr",
             Aov::Albedo => "albedo",
             Aov::Spp => "spp",
+            Aov::Flow(Dir::Forward) => "flow_forward",
+            Aov::Flow(Dir::Backward) => "flow_backward",
+            Aov::FlowOcclusion(Dir::Forward) => "flow_forward_occlusion",
+            Aov::FlowOcclusion(Dir::Backward) => "flow_backward_occlusion",
+            Aov::SceneFlow(Dir::Forward) => "scene_flow_forward",
+            Aov::SceneFlow(Dir::Backward) => "scene_flow_backward",
+            Aov::SceneFlowCamera(Dir::Forward) => "scene_flow_forward_camera",
+            Aov::SceneFlowCamera(Dir::Backward) => "scene_flow_backward_camera",
+        }
+    }
+
+    /// The direction of a flow layer (None for the others).
+    pub fn flow_dir(self) -> Option<Dir> {
+        match self {
+            Aov::Flow(d) | Aov::FlowOcclusion(d) | Aov::SceneFlow(d) | Aov::SceneFlowCamera(d) => {
+                Some(d)
+            }
+            _ => None,
         }
     }
 
@@ -91,7 +140,11 @@ impl Aov {
             | Aov::Normal
             | Aov::GeoNormal
             | Aov::NormalCamera
-            | Aov::GeoNormalCamera => &["X", "Y", "Z"],
+            | Aov::GeoNormalCamera
+            | Aov::SceneFlow(_)
+            | Aov::SceneFlowCamera(_) => &["X", "Y", "Z"],
+            Aov::Flow(_) => &["X", "Y"],
+            Aov::FlowOcclusion(_) => &["M"],
             Aov::Uv => &["U", "V"],
             Aov::Instance | Aov::Label | Aov::Material => &["ID"],
             Aov::Alpha => &["A"],
@@ -125,6 +178,13 @@ impl Aov {
             Aov::Alpha => "fraction of the pixel's camera samples that hit a surface (filtered like radiance)",
             Aov::Stderr => "standard error of the pixel's Y and of each band (stderr.S0.<λ>nm) from the spread of its camera samples: sqrt(sample variance / spp)",
             Aov::Spp => "camera samples the pixel's estimate averaged (sampler.spp; adaptive sampling: the pixel's own count, its pilot batch not counted)",
+            Aov::Flow(d) => match d {
+                Dir::Forward => "optical flow to the frame 1/fps later, pixels, OpenCV image axes (x right, y down): the surface point seen through this pixel's centre is seen there at centre + flow (0: none)",
+                Dir::Backward => "optical flow to the frame 1/fps earlier, pixels, OpenCV image axes (x right, y down): the surface point seen through this pixel's centre was seen there at centre + flow (0: none)",
+            },
+            Aov::FlowOcclusion(_) => "1 where the pixel's surface point is hidden at the flow's other frame, leaves its image, or there is no surface; 0 where it is seen there",
+            Aov::SceneFlow(_) => "displacement of the pixel's surface point to the flow's other frame, world frame: p(t ± 1/fps) − p(t) (scene units; 0: none)",
+            Aov::SceneFlowCamera(_) => "displacement of the pixel's surface point in OpenCV camera frames, each time's own camera: (R'·p' + t') − (R·p + t) (scene units; 0: none)",
             Aov::Albedo => "diffuse reflectance of the material at the pixel-centre hit (textures at its uv): R/G/B linear sRGB under D65 (constant rho gives R=G=B=rho), and each band's mean (albedo.S0.<λ>nm); conductors and dielectrics 0; 0: none",
         }
     }

@@ -4,7 +4,7 @@
 
 pub mod aov;
 
-pub use aov::{Aov, UintChannel};
+pub use aov::{Aov, Dir, UintChannel};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {

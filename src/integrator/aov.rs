@@ -166,7 +166,13 @@ pub fn layers(
             Aov::Uv => push(&mut floats, aov, &|h| {
                 h.map_or([0.0; 3], |h| [h.uv.x, h.uv.y, 0.0])
             }),
-            Aov::Stderr | Aov::Albedo => {} // `add_layers`
+            // `add_layers` (flow: `integrator::flow`)
+            Aov::Stderr
+            | Aov::Albedo
+            | Aov::Flow(_)
+            | Aov::FlowOcclusion(_)
+            | Aov::SceneFlow(_)
+            | Aov::SceneFlowCamera(_) => {}
             Aov::Alpha => floats.push(Channel {
                 name: "alpha.A".into(),
                 data: coverage(scene, settings, counts),

@@ -5,6 +5,7 @@ pub mod adaptive;
 pub mod albedo;
 pub mod aov;
 pub mod caustics;
+pub mod flow;
 pub mod packet;
 pub mod path;
 

@@ -28,6 +28,8 @@ pub struct Job {
     /// AOV layers to write (`aovs`), and the objects they and the sidecar name.
     pub aovs: Vec<crate::film::Aov>,
     pub objects: super::objects::Objects,
+    /// What the flow layers need (`load::flow`), when `aovs` asks for one.
+    pub flow: Option<crate::integrator::flow::FlowScene>,
 }
 
 /// Reads, checks and builds the scene file at `path`; `edit` may change the parsed config
@@ -62,7 +64,9 @@ pub const MAX_NM: f32 = 1e5;
 /// Builds a job from a parsed config.
 pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
     let mut warnings = Vec::new();
-    // Time first: at an instant every animated transform becomes a static one.
+    // Flow first: it builds the scene over the neighbouring frames from the animations.
+    let flow = super::flow::setup(&cfg, file)?;
+    // Time next: at an instant every animated transform becomes a static one.
     let plan = super::motion::prepare(&mut cfg, file)?;
 
     // Spectral settings come first: spectra are checked over the render's range.
@@ -449,6 +453,7 @@ pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         inputs: Vec::new(),
         aovs,
         objects,
+        flow,
     })
 }
 

@@ -10,6 +10,7 @@ pub mod colour_space;
 mod emission;
 mod emitters;
 pub mod extent;
+pub mod flow;
 mod geometry;
 pub mod gltf;
 pub mod instancing;

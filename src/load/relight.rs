@@ -25,6 +25,21 @@ pub fn geometry_key(cfg: &SceneConfig) -> String {
             s
         })
         .collect();
+    // Moving shapes are built at the frame's time; the flow layers' scene also holds the
+    // camera's motion and the frame rate.
+    let moving = cfg.shapes.iter().any(|s| s.animation.is_some());
+    let flow = cfg.aovs.iter().any(|a| {
+        crate::film::Aov::parse(a.trim())
+            .and_then(|a| a.flow_dir())
+            .is_some()
+    });
+    if moving || flow {
+        let time = (
+            &cfg.camera.shutter,
+            flow.then_some((&cfg.camera, &cfg.aovs)),
+        );
+        return serde_json::to_string(&(shapes, cfg.accel, time)).expect("configs serialise");
+    }
     serde_json::to_string(&(shapes, cfg.accel)).expect("configs serialise")
 }
 

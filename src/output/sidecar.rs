@@ -234,7 +234,7 @@ pub fn value(
             })
         })
         .collect();
-    json!({
+    let mut v = json!({
         "format": "prism-sidecar",
         "version": 1,
         "image": exr.file_name().map(|f| f.to_string_lossy().into_owned()),
@@ -277,5 +277,25 @@ pub fn value(
         "labels": job.objects.labels.iter().enumerate().map(|(i, l)| json!({"id": i + 1, "name": l})).collect::<Vec<_>>(),
         "materials": job.objects.materials.iter().enumerate().map(|(i, m)| json!({"id": i + 1, "name": m})).collect::<Vec<_>>(),
         "objects": objects,
+    });
+    if let Some(f) = &job.flow {
+        v["flow"] = flow(f, w, h);
+    }
+    v
+}
+
+/// The flow layers' frames: this frame's time, the step and the cameras at the neighbouring
+/// frames (with their K, R and t `cv2.projectPoints` takes; docs/sidecar.md, "Flow").
+fn flow(f: &crate::integrator::flow::FlowScene, w: u32, h: u32) -> Value {
+    use crate::film::Dir;
+    json!({
+        "time": f.time,
+        "fps": 1.0 / f.step,
+        "step": f.step,
+        "forward_time": f.time_of(Dir::Forward),
+        "backward_time": f.time_of(Dir::Backward),
+        "camera_forward": camera(&f.forward, w, h),
+        "camera_backward": camera(&f.backward, w, h),
+        "conventions": "flow_*: pixels, OpenCV image axes (x right, y down), from this frame's pixel centre (i, j) to where the same surface point projects at the other frame: (i + X, j + Y); scene_flow_*: p(t') - p(t) in the world frame, and (R' p' + t') - (R p + t) in OpenCV camera frames (each time's own camera); *_occlusion: 1 where the point is hidden at t', leaves the image or there is no surface",
     })
 }

@@ -43,5 +43,9 @@ pub fn add_layers(
         film.channels
             .extend(albedo::layers(&job.scene, h, &job.channels.sensor));
     }
+    if let Some(f) = &job.flow {
+        film.channels
+            .extend(f.layers(&job.scene.camera, h, s.width, &job.aovs));
+    }
     hits
 }

@@ -1,0 +1,160 @@
+//! Video sequences in `prism dataset` (issue 30 item 4): configs/datasets/sequence.ron made
+//! tiny (2 sequences of 3 frames, 32×24 at 2 spp). A frame rendered alone is byte-identical to
+//! the same frame of the full run; each frame's JSON gives its sequence, index and time, the
+//! draws are shared within a sequence, and the objects' `to_world` move with the time as drawn;
+//! the flow layers are in every frame. Bad sequence fields exit 2 naming the field.
+
+mod dataset_util;
+use dataset_util::*;
+
+use std::path::{Path, PathBuf};
+
+/// sequence.ron with absolute paths, shrunk, and `edit` applied, written into `dir`.
+fn config(dir: &Path, edit: impl Fn(String) -> String) -> PathBuf {
+    let ds = root().join("configs/datasets");
+    let text = std::fs::read_to_string(ds.join("sequence.ron"))
+        .unwrap()
+        .replace(
+            "\"scenes/tabletop.ron\"",
+            &format!("{:?}", ds.join("scenes/tabletop.ron")),
+        )
+        .replace(
+            "\"../../scenes/textures/sky.exr\"",
+            &format!("{:?}", root().join("scenes/textures/sky.exr")),
+        )
+        .replace("sequences: 3", "sequences: 2")
+        .replace("frames_per_sequence: 8", "frames_per_sequence: 3")
+        .replace(
+            "spp: 8, resolution: (96, 72)",
+            "spp: 2, resolution: (32, 24)",
+        );
+    let p = dir.join("dataset.ron");
+    std::fs::write(&p, edit(text)).unwrap();
+    p
+}
+
+fn json(out: &Path, i: u32) -> serde_json::Value {
+    let t = std::fs::read_to_string(out.join(format!("frames/{i:06}.json"))).unwrap();
+    serde_json::from_str(&t).unwrap()
+}
+
+#[test]
+fn sequence_frames_are_reproducible_alone_and_move_in_time() {
+    let dir = workdir("seq");
+    let cfg = config(&dir, |t| t);
+    let full = dir.join("full");
+    ok(&dataset(&cfg, &full, &[]));
+    assert_eq!(manifest(&full), (0..6).collect::<Vec<_>>());
+    let all = frames(&full);
+    // Frame 4 (sequence 1, index 1) alone, on one thread.
+    let one = dir.join("one");
+    ok(&dataset(&cfg, &one, &["--frames", "4", "--threads", "1"]));
+    let alone = frames(&one);
+    assert_eq!(alone.len(), 3, "exr, json, png");
+    for (name, bytes) in alone {
+        assert!(all[&name] == bytes, "{name} differs from the full run");
+    }
+    let fps = 12.0;
+    for i in 0..6u32 {
+        let j = json(&full, i);
+        let f = &j["frame"];
+        assert_eq!(f["sequence"], i / 3, "frame {i}");
+        assert_eq!(f["index"], i % 3, "frame {i}");
+        let t = f["time"].as_f64().unwrap();
+        assert!(
+            (t - (i % 3) as f64 / fps).abs() < 1e-6,
+            "frame {i}: time {t}"
+        );
+        assert!(
+            j["flow"]["step"].as_f64().unwrap() > 0.0,
+            "frame {i}: flow block"
+        );
+        let names: Vec<&str> = j["aovs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|a| a["name"].as_str().unwrap())
+            .collect();
+        assert!(names.contains(&"flow_forward") && names.contains(&"flow_backward_occlusion"));
+    }
+    // Within a sequence the draws are shared (placement, materials, motion), across they differ.
+    let (a, b, c) = (json(&full, 0), json(&full, 2), json(&full, 3));
+    for key in ["placement", "materials", "motion", "lights"] {
+        assert_eq!(a["frame"][key], b["frame"][key], "{key} within a sequence");
+        assert_ne!(a["frame"][key], c["frame"][key], "{key} across sequences");
+    }
+    assert_ne!(a["frame"]["render_seed"], b["frame"]["render_seed"]);
+    // The ball's to_world moves by its drawn velocity between frames 0 and 2 (2/fps s), to
+    // f32 rounding of the transforms (1e-5).
+    let obj = |j: &serde_json::Value| {
+        let o = j["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|o| o["name"] == "ball")
+            .unwrap()
+            .clone();
+        let m = &o["to_world"];
+        [0, 1, 2].map(|r| m[r][3].as_f64().unwrap())
+    };
+    let m = a["frame"]["motion"]["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["shape"] == "ball")
+        .unwrap()["motion"]
+        .clone();
+    let v = m["speed"].as_f64().unwrap();
+    let d = &m["direction"];
+    let (p0, p2) = (obj(&a), obj(&b));
+    for k in 0..3 {
+        // A sphere's spin about its own centre leaves its centre (the translation) in place.
+        let want = p0[k] + d[k].as_f64().unwrap() * v * 2.0 / fps;
+        assert!((p2[k] - want).abs() < 1e-5, "axis {k}: {} vs {want}", p2[k]);
+    }
+    assert!(v > 0.0, "the ball moves");
+}
+
+#[test]
+fn bad_sequence_fields_are_refused() {
+    let dir = workdir("seqbad");
+    for (k, (from, to, needles)) in [
+        ("fps: 12", "fps: 0", vec!["fps", "positive"]),
+        (
+            "sequences: 2,",
+            "sequences: 2, frames: 7,",
+            vec!["frames", "product"],
+        ),
+        (
+            "frames_per_sequence: 3",
+            "frames_per_sequence: 0",
+            vec!["frames_per_sequence"],
+        ),
+        ("sequences: 2,", "", vec!["sequences", "not given"]),
+        (
+            "shapes: [\"ball\", \"box\"]",
+            "shapes: [\"nope\"]",
+            vec!["motion.objects", "nope"],
+        ),
+        (
+            "speed: (0.1, 0.3)",
+            "speed: (0.3, 0.1)",
+            vec!["motion.objects[0].speed", "increasing"],
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let cfg = config(&dir, |t| {
+            assert!(t.contains(from), "{from}");
+            t.replace(from, to)
+        });
+        let o = dataset(&cfg, &dir.join(format!("out{k}")), &[]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{to}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        for n in ["dataset.ron"].iter().chain(&needles) {
+            assert!(err.contains(n), "{to}: stderr lacks `{n}`:\n{err}");
+        }
+    }
+}
