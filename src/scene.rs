@@ -192,46 +192,19 @@ impl Scene {
             None => self.flat_hit(self.accel.intersect(ray)?),
             Some(inst) => self.intersect_two_level(inst, ray)?,
         };
-        Some(self.surface_at(ray, shape, local, &h.hit))
-    }
-
-    /// True for a scene without instances or moving shapes: one whose `intersect` is
-    /// `closest_prim` then `surface_at`.
-    pub fn is_flat(&self) -> bool {
-        self.instances.is_none() && self.moving.is_none()
-    }
-
-    /// In a flat scene (`is_flat`), the closest primitive along `ray` as (shape, its local
-    /// primitive, hit): `intersect` without the surface reconstruction, which the packet
-    /// kernel does across lanes.
-    #[inline(always)]
-    pub fn closest_prim(&self, ray: &Ray) -> Option<(u32, u32, crate::shape::PrimHit)> {
-        let (shape, local, h) = self.flat_hit(self.accel.intersect(ray)?);
-        Some((shape, local, h.hit))
-    }
-
-    /// The surface interaction of `ray` hitting local primitive `local` of `shape` at `h`.
-    #[inline(always)]
-    pub fn surface_at(
-        &self,
-        ray: &Ray,
-        shape: u32,
-        local: u32,
-        h: &crate::shape::PrimHit,
-    ) -> SurfaceInteraction {
-        let s = self.shapes[shape as usize].surface(local as usize, ray, h);
-        SurfaceInteraction {
+        let s = self.shapes[shape as usize].surface(local as usize, ray, &h.hit);
+        Some(SurfaceInteraction {
             p: s.p,
             p_error: s.p_error,
             ng: s.ng,
             frame: s.frame,
             uv: s.uv,
-            t: h.t,
+            t: h.hit.t,
             shape,
             prim: local,
             time: ray.time,
-            bary: Vec2::new(h.b1, h.b2),
-        }
+            bary: Vec2::new(h.hit.b1, h.hit.b2),
+        })
     }
 
     /// The closest hit of a scene with instances: the flat structure's, then the instances'

@@ -147,32 +147,7 @@ impl Bvh {
         t_max: &mut f32,
         best: &mut Option<Hit>,
     ) {
-        let packets = &self.packets[first as usize..(first + count) as usize];
-        #[cfg(target_arch = "x86_64")]
-        if let ([a, b], true) = (packets, self.triangles.avx2) {
-            // SAFETY: `avx2` is set only where the CPU has AVX2.
-            let h = unsafe { Triangle4::intersect_pair_avx2(a, b, shear4, *t_max) };
-            let hit = |k: usize| PrimHit {
-                t: h.t[k],
-                b1: h.b1[k],
-                b2: h.b2[k],
-            };
-            // The loop below's order: `a`'s hits and redos, then `b`'s, whose in-range test
-            // is applied again at the t_max `a` left (the loop tests `b` only then).
-            for lane in lanes(h.mask & 0xf) {
-                keep_closer(best, t_max, a.ids[lane], hit(lane));
-            }
-            redo_closest(shear, a, h.redo & 0xf, t_max, best);
-            let t_b = *t_max;
-            for lane in lanes(h.mask >> 4) {
-                if h.ts[lane + 4] < t_b * h.det_abs[lane + 4] {
-                    keep_closer(best, t_max, b.ids[lane], hit(lane + 4));
-                }
-            }
-            redo_closest(shear, b, h.redo >> 4, t_max, best);
-            return;
-        }
-        for p in packets {
+        for p in &self.packets[first as usize..(first + count) as usize] {
             let h = p.intersect(shear4, *t_max);
             for lane in lanes(h.mask) {
                 let hit = PrimHit {
@@ -182,7 +157,16 @@ impl Bvh {
                 };
                 keep_closer(best, t_max, p.ids[lane], hit);
             }
-            redo_closest(shear, p, h.redo, t_max, best);
+            for lane in lanes(h.redo) {
+                if let Some(r) = triangle::intersect(shear, *t_max, &p.vertices(lane)) {
+                    let hit = PrimHit {
+                        t: r.t,
+                        b1: r.b1,
+                        b2: r.b2,
+                    };
+                    keep_closer(best, t_max, p.ids[lane], hit);
+                }
+            }
         }
     }
 
@@ -197,20 +181,13 @@ impl Bvh {
         shear4: &RayShear4,
         t_max: f32,
     ) -> bool {
-        let packets = &self.packets[first as usize..(first + count) as usize];
-        let redo_hits = |p: &Triangle4, redo: u32| {
-            lanes(redo).any(|lane| triangle::intersect(shear, t_max, &p.vertices(lane)).is_some())
-        };
-        #[cfg(target_arch = "x86_64")]
-        if let ([a, b], true) = (packets, self.triangles.avx2) {
-            // SAFETY: `avx2` is set only where the CPU has AVX2.
-            let h = unsafe { Triangle4::intersect_pair_avx2(a, b, shear4, t_max) };
-            return h.mask != 0 || redo_hits(a, h.redo & 0xf) || redo_hits(b, h.redo >> 4);
-        }
         // A plain loop: `Iterator::any` was not inlined into the traversal.
-        for p in packets {
+        for p in &self.packets[first as usize..(first + count) as usize] {
             let h = p.intersect(shear4, t_max);
-            if h.mask != 0 || redo_hits(p, h.redo) {
+            if h.mask != 0
+                || lanes(h.redo)
+                    .any(|lane| triangle::intersect(shear, t_max, &p.vertices(lane)).is_some())
+            {
                 return true;
             }
         }
@@ -269,28 +246,6 @@ fn lanes(mut mask: u32) -> impl Iterator<Item = usize> {
             lane
         })
     })
-}
-
-/// The lanes of `redo` in packet `p`, tested one by one (`triangle::intersect`, with its f64
-/// refinement), each kept if closer.
-#[inline(always)]
-fn redo_closest(
-    shear: &RayShear,
-    p: &Triangle4,
-    redo: u32,
-    t_max: &mut f32,
-    best: &mut Option<Hit>,
-) {
-    for lane in lanes(redo) {
-        if let Some(r) = triangle::intersect(shear, *t_max, &p.vertices(lane)) {
-            let hit = PrimHit {
-                t: r.t,
-                b1: r.b1,
-                b2: r.b2,
-            };
-            keep_closer(best, t_max, p.ids[lane], hit);
-        }
-    }
 }
 
 /// Makes `hit` the closest so far if it is nearer than `t_max`.

@@ -3,7 +3,6 @@
 //! sends to the scalar integrator), run for every busy lane in turn, so every lane does the
 //! scalar integrator's operations in its order: the bits cannot depend on W.
 
-use super::hits;
 use super::stream::{Item, Stream};
 use super::TileArgs;
 use crate::bsdf::Bsdf;
@@ -101,14 +100,12 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             continue; // paths ended at the camera (max_depth 0): refill
         }
 
-        // Trace: one ray per lane through the BVH, the surfaces at the hits across lanes.
-        let mut rays = [None; W];
-        for (r, lane) in rays.iter_mut().zip(&lanes) {
+        // Trace: one ray per lane through the BVH.
+        for (lane, hit) in lanes.iter().zip(hits.iter_mut()) {
             if lane.item.is_some() {
-                *r = Some(&lane.ray);
+                *hit = scene.intersect(&lane.ray);
             }
         }
-        hits::trace::<W>(scene, rays, &mut hits);
 
         // Emission at the hit (or from the environment on a miss); the BSDF at the hit.
         for (lane, hit) in lanes.iter_mut().zip(hits.iter()) {

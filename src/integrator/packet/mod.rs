@@ -22,7 +22,6 @@
 //! **Fallback.** What is not in lanes renders with the scalar integrator, by the one rule in
 //! `unsupported` (stated in docs/performance.md, "Paths in lanes").
 
-mod hits;
 mod kernel;
 mod stream;
 
