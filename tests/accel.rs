@@ -12,6 +12,7 @@ use prism::accel::{Accel, AccelKind, Prim};
 use prism::math::rng::Pcg32;
 use prism::math::Transform;
 use prism::ray::Ray;
+use prism::shape::triangle::{RayShear, RayShear4, Triangle4};
 use prism::shape::{Disk, Mesh, Shape, Sphere};
 
 fn v3(rng: &mut Pcg32, s: f32) -> Vec3 {
@@ -152,6 +153,68 @@ fn embree_matches_brute_force_on_random_rays() {
     matches_brute_force(AccelKind::Embree, 2);
 }
 
+/// A ray with a NaN or infinite component, given to the BVH directly, meets nothing (it once
+/// panicked: NaN slab distances let every lane of a node through, unused lanes included, whose
+/// empty child then read as a leaf past the end of the triangles). A zero direction, a zero or
+/// negative `t_max`, and rays through the scene's middle must agree with brute force.
+///
+/// Tolerance: exact. Both backends run the same primitive code.
+#[test]
+fn bvh_is_safe_on_nan_infinite_and_degenerate_rays() {
+    let mut rng = Pcg32::new(5, 9);
+    let shapes = random_shapes(&mut rng, 500);
+    let p = prims(&shapes);
+    let bvh = Accel::build(p.clone(), AccelKind::Bvh);
+    let brute = Accel::build(p, AccelKind::BruteForce);
+    let (nan, inf) = (f32::NAN, f32::INFINITY);
+    let bad = [
+        Vec3::new(nan, 0.0, 0.0),
+        Vec3::new(0.0, nan, 1.0),
+        Vec3::new(0.0, 0.0, nan),
+        Vec3::splat(nan),
+        Vec3::new(inf, 0.0, 0.0),
+        Vec3::new(0.0, -inf, 0.0),
+        Vec3::new(inf, -inf, inf),
+    ];
+    let good = [Vec3::ZERO, Vec3::new(0.3, -0.2, 0.1), Vec3::X, Vec3::NEG_Z];
+    let mut rays = Vec::new();
+    for &b in &bad {
+        for &g in &good {
+            let d = g.normalize_or(Vec3::Y);
+            rays.push(Ray::new(b, d)); // bad origin
+            rays.push(Ray::new(g, b)); // bad direction
+        }
+    }
+    for r in &rays {
+        assert_eq!(bvh.intersect(r), None, "{r:?}");
+        assert!(!bvh.occluded(r), "{r:?}");
+    }
+    let mut odd = Vec::new();
+    for &o in &good {
+        odd.push(Ray::new(o, Vec3::ZERO));
+        // A NaN t_max: the BVH's box test meets nothing (brute force's analytic shapes
+        // ignore it): only no panic is asked.
+        let mut r = Ray::new(o, Vec3::new(0.6, 0.0, 0.8));
+        r.t_max = nan;
+        let _ = (bvh.intersect(&r), bvh.occluded(&r));
+        for t_max in [-1.0, 0.0, -inf] {
+            let mut r = Ray::new(o, Vec3::new(0.6, 0.0, 0.8));
+            r.t_max = t_max;
+            odd.push(r);
+        }
+    }
+    for _ in 0..200 {
+        odd.push(Ray::new(
+            v3(&mut rng, 3.0),
+            v3(&mut rng, 1.0).normalize_or(Vec3::X),
+        ));
+    }
+    for r in &odd {
+        assert_eq!(bvh.intersect(r), brute.intersect(r), "{r:?}");
+        assert_eq!(bvh.occluded(r), brute.occluded(r), "{r:?}");
+    }
+}
+
 /// Rays leaving a large, rotated rectangle (whose vertices carry rounding error: the floor of
 /// `render_analytic`'s view-factor test, where this once darkened the floor by 14%) must not
 /// re-hit it with any backend: prism rejects hits within t's rounding-error bound, and the
@@ -209,4 +272,96 @@ fn empty_scene_misses() {
     let a = Accel::build(Vec::new(), AccelKind::Bvh);
     let ray = Ray::new(Vec3::ZERO, Vec3::X);
     assert!(a.intersect(&ray).is_none() && !a.occluded(&ray));
+}
+
+/// The two-packet AVX2 test finds in each lane exactly what `Triangle4::intersect` finds for
+/// that lane's packet at the same `t_max`: the same hit and redo masks, the same t and
+/// barycentrics bit for bit, and `ts < t_max · |det|` agreeing with the in-range test at a
+/// smaller `t_max` (what the BVH re-applies to the second packet). Rays aim at edges and
+/// vertices; some lanes are degenerate, some unused, some rays NaN.
+#[test]
+#[cfg(target_arch = "x86_64")]
+#[cfg_attr(
+    not(prism_host_avx2),
+    ignore = "this CPU lacks AVX2: only the portable path runs"
+)]
+fn pair_test_matches_packet_test() {
+    assert!(std::is_x86_feature_detected!("avx2"), "rebuild on this CPU");
+    let mut state = 29u32;
+    let mut next = || {
+        state = state.wrapping_mul(747796405).wrapping_add(2891336453);
+        (state >> 8) as f32 / (1u32 << 24) as f32
+    };
+    let (mut hits, mut redone, mut shrunk) = (0, 0, 0);
+    for i in 0..20000 {
+        let mut tris = Vec::new();
+        for id in 0..8 {
+            let mut v = [0; 3].map(|_| Vec3::new(next(), next(), next()) * 4.0 - 2.0);
+            if id % 4 == 3 && next() < 0.3 {
+                v[2] = v[1]; // degenerate
+            }
+            tris.push((v, id));
+        }
+        let (na, nb) = (4, 1 + (next() * 4.0) as usize);
+        let a = Triangle4::new(&tris[..na]);
+        let b = Triangle4::new(&tris[4..4 + nb]);
+        let target = tris[(next() * 8.0) as usize % (4 + nb)].0;
+        let (b1, b2) = match (next() * 3.0) as u32 {
+            0 => (0.0, next()),
+            1 => (1.0, 0.0),
+            _ => (next() * 0.6, next() * 0.4),
+        };
+        let aim = target[0] * (1.0 - b1 - b2) + target[1] * b1 + target[2] * b2;
+        let o = Vec3::new(next(), next(), next()) * 8.0 - 4.0;
+        let d = if i % 500 == 0 {
+            Vec3::new(f32::NAN, 1.0, 0.0)
+        } else {
+            aim - o
+        };
+        if d.length_squared() == 0.0 {
+            continue;
+        }
+        let ray = Ray::new(o, d.normalize());
+        let s4 = RayShear4::new(&RayShear::new(&ray));
+        let t_max = if next() < 0.2 {
+            next() * 8.0
+        } else {
+            f32::INFINITY
+        };
+        // SAFETY: checked above that the CPU has AVX2.
+        let h = unsafe { Triangle4::intersect_pair_avx2(&a, &b, &s4, t_max) };
+        for (half, p) in [(0, &a), (1, &b)] {
+            let want = p.intersect(&s4, t_max);
+            let (mask, redo) = ((h.mask >> (4 * half)) & 0xf, (h.redo >> (4 * half)) & 0xf);
+            assert_eq!((mask, redo), (want.mask, want.redo), "ray {i} half {half}");
+            for lane in 0..4 {
+                if mask & (1 << lane) == 0 {
+                    continue;
+                }
+                let k = 4 * half + lane;
+                let got = [h.t[k], h.b1[k], h.b2[k]].map(f32::to_bits);
+                let exp = [want.t[lane], want.b1[lane], want.b2[lane]].map(f32::to_bits);
+                assert_eq!(got, exp, "ray {i} lane {k}");
+                hits += 1;
+                // A smaller t_max, as the first packet's hits leave it for the second.
+                let t2 = h.t[k] * (0.5 + next());
+                let again = p.intersect(&s4, t2).mask & (1 << lane) != 0;
+                assert_eq!(
+                    h.ts[k] < t2 * h.det_abs[k],
+                    again,
+                    "ray {i} lane {k} at {t2}"
+                );
+                shrunk += again as u32;
+            }
+            redone += redo.count_ones();
+        }
+    }
+    assert!(
+        hits > 5000 && shrunk > 1000,
+        "too few hits ({hits}, {shrunk})"
+    );
+    assert!(
+        redone > 100,
+        "edge and vertex cases not exercised ({redone})"
+    );
 }

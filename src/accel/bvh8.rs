@@ -83,7 +83,7 @@ pub struct Tree {
     stack_needed: usize,
     /// Whether this CPU runs the AVX2 node test (checked once, at build).
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
-    avx2: bool,
+    pub(super) avx2: bool,
     /// Bounds of everything in the tree (inverted for an empty tree).
     pub lo: Vec3,
     pub hi: Vec3,

@@ -10,7 +10,7 @@ use wide::f32x4;
 // reads `RayShear`'s fields.
 #[path = "triangle_packet.rs"]
 mod packet;
-pub use packet::{Hits4, RayShear4, Triangle4};
+pub use packet::{Hits4, Hits8, RayShear4, Triangle4};
 
 /// Per-ray constants of the watertight test: the axis permutation that makes the ray's largest
 /// direction component z, and the shear that aligns the ray with z.

@@ -17,7 +17,10 @@ impl Tree {
         t_max: &mut f32,
         leaf: impl FnMut(u32, u32, &mut f32) -> Visit,
     ) -> bool {
-        if self.root == EMPTY {
+        // A ray with a NaN or infinite origin or direction meets nothing: its slab distances
+        // would be NaN, which every lane's test lets through, unused lanes included (whose
+        // child, EMPTY, would then be read as a leaf past the end of the caller's items).
+        if self.root == EMPTY || !(ray.o.is_finite() && ray.d.is_finite()) {
             return false;
         }
         #[cfg(target_arch = "x86_64")]
