@@ -25,12 +25,13 @@ def power_heuristic(a, b):
 
 
 def camera_samples(scene, spp, rng):
-    """spp camera rays per pixel (pixel-major), their wavelengths and lane weights 1/(N p)."""
+    """spp camera rays per pixel (pixel-major), their wavelengths and lane weights 1/(N p).
+    The lens samples make a thin-lens camera's depth of field (other cameras ignore them)."""
     w, h = scene.size
     ys, xs = np.mgrid[0:h, 0:w]
     pixel = np.repeat(np.stack([xs.ravel(), ys.ravel()], 1), spp, axis=0)
     m = len(pixel)
-    o, d = scene.camera_rays(pixel, rng.random((m, 2)))
+    o, d = scene.camera_rays(pixel, rng.random((m, 2)), u_lens=rng.random((m, 2)))
     lam, pdf = scene.sample_wavelengths(rng.random(m))
     weight = np.divide(1.0, lam.shape[1] * pdf, out=np.zeros_like(pdf), where=pdf > 0)
     return o, d, lam, weight

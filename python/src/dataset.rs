@@ -135,6 +135,9 @@ fn read_exr(path: &std::path::Path) -> Result<Vec<(String, usize, usize, Samples
         .all_channels()
         .all_layers()
         .all_attributes()
+        // No rayon: a DataLoader's workers are forked from a process whose rayon threads (its
+        // renders') do not exist in the child, where a parallel read would wait for them forever.
+        .non_parallel()
         .from_file(path)
         .map_err(|e| e.to_string())?;
     let mut out = Vec::new();

@@ -9,6 +9,7 @@ mod glue;
 mod load;
 mod params;
 mod parts;
+mod progress;
 mod render;
 mod scene_params;
 mod spectra;
@@ -37,6 +38,9 @@ pub(crate) fn to_py(e: Error) -> PyErr {
 fn prism(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    progress::add_module(m)?;
+    // The sampler dimension of a thin lens's sample (`Scene.camera_rays`, `sampler_stream`).
+    m.add("LENS_DIM", prism_core::camera::LENS_DIM)?;
     m.add_class::<load::Scene>()?;
     m.add_class::<render::Render>()?;
     m.add_class::<scene_params::Params>()?;

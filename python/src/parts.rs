@@ -7,6 +7,7 @@ use crate::arrays::{self, with_lanes};
 use crate::load::Scene;
 use glam::{Vec2, Vec3};
 use numpy::{AllowTypeChange, PyArrayLike1, PyArrayLike2, PyUntypedArrayMethods};
+use prism_core::camera::Camera;
 use prism_core::emitter::Emitter;
 use prism_core::interaction::SurfaceInteraction;
 use prism_core::ray::Ray;
@@ -128,14 +129,18 @@ impl Hits {
 #[pymethods]
 impl Scene {
     /// Camera rays through film positions: pixel (x, y) (M, 2) plus an offset drawn from the
-    /// pixel filter with `u_film` (M, 2) in [0, 1)², as
-    /// the render makes them (a thin lens through its centre). Returns (origins, directions),
-    /// each (M, 3).
+    /// pixel filter with `u_film` (M, 2) in [0, 1)², through the lens at `u_lens` (M, 2) in
+    /// [0, 1)² (a thin lens's point on its aperture, as the render draws it at the sampler's
+    /// dimension `prism.LENS_DIM`; the other cameras have no lens and ignore it, and a thin
+    /// lens without it is refused: its centre alone would show no depth of field). Returns
+    /// (origins, directions), each (M, 3).
+    #[pyo3(signature = (pixel, u_film, u_lens=None))]
     fn camera_rays<'py>(
         &self,
         py: Python<'py>,
         pixel: PyArrayLike2<'py, f32, AllowTypeChange>,
         u_film: PyArrayLike2<'py, f32, AllowTypeChange>,
+        u_lens: Option<PyArrayLike2<'py, f32, AllowTypeChange>>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         let px = arrays::vec2s(&pixel, "pixel")?;
         if let Some(p) = px.iter().find(|p| !p.is_finite()) {
@@ -145,16 +150,33 @@ impl Scene {
         }
         let u = arrays::unit2(arrays::vec2s(&u_film, "u_film")?, "u_film")?;
         arrays::same_len(u.len(), px.len(), "u_film")?;
+        let lens = match &u_lens {
+            Some(l) => Some(arrays::unit2(arrays::vec2s(l, "u_lens")?, "u_lens")?),
+            None => None,
+        };
+        if let Some(l) = &lens {
+            arrays::same_len(l.len(), px.len(), "u_lens")?;
+        }
         let st = self.read();
         let job = &st.job;
+        let cam = &job.scene.camera;
+        if let (Camera::ThinLens(_), None) = (cam, &lens) {
+            return Err(crate::SceneError::new_err(
+                "this scene's camera is a thin lens, whose rays start anywhere on its aperture: \
+                 pass u_lens, (M, 2) uniforms in [0, 1) (e.g. rng.random((M, 2)))",
+            ));
+        }
         let rays: Vec<Ray> = py.detach(|| {
             let f = &job.settings.filter;
             px.iter()
                 .zip(&u)
-                .map(|(p, u)| {
-                    job.scene
-                        .camera
-                        .center_ray(*p + Vec2::splat(0.5) + f.sample(*u))
+                .enumerate()
+                .map(|(i, (p, u))| {
+                    let film = *p + Vec2::splat(0.5) + f.sample(*u);
+                    match (cam, &lens) {
+                        (Camera::ThinLens(t), Some(l)) => t.ray(film, l[i]),
+                        _ => cam.center_ray(film),
+                    }
                 })
                 .collect()
         });

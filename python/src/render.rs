@@ -3,6 +3,7 @@
 
 use crate::glue::{self, Overrides, Rendered};
 use crate::load::Scene;
+use crate::progress::{Counter, Reporter};
 use crate::to_py;
 use numpy::{PyArray1, PyArrayMethods};
 use prism_core::load::Job;
@@ -27,10 +28,14 @@ pub struct Render {
 /// Renders `scene` as `prism render` does with the same flags (same bits): `spp`, `seed`
 /// override the scene's sampler; `aovs` names the layers to render instead of the scene's
 /// (empty: the scene's own); `sensor` is a sensor file replacing the scene's; `threads` the
-/// workers (None: one per core). The GIL is released while rendering, and Ctrl-C stops the
-/// render and raises `KeyboardInterrupt`.
+/// workers (None: one per core); `progress` True (or None) for a bar in a terminal or notebook,
+/// False for none, or a callable `f(done, total)` (progress.py). The GIL is released while
+/// rendering, and Ctrl-C (or an exception from `progress`) stops the render and raises.
 #[pyfunction]
-#[pyo3(signature = (scene, spp=None, seed=None, threads=None, aovs=Vec::new(), sensor=None, progress=true))]
+#[pyo3(signature = (scene, spp=None, seed=None, threads=None, aovs=Vec::new(), sensor=None, progress=None))]
+#[pyo3(
+    text_signature = "(scene, spp=None, seed=None, threads=None, aovs=(), sensor=None, progress=True)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn render(
     py: Python<'_>,
@@ -40,7 +45,7 @@ pub fn render(
     threads: Option<usize>,
     aovs: Vec<String>,
     sensor: Option<PathBuf>,
-    progress: bool,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Render> {
     if spp == Some(0) {
         let e = prism_core::error::InputError::new(&scene.file, "--spp must be at least 1");
@@ -53,18 +58,20 @@ pub fn render(
         sensor,
         threads,
     };
-    let bar = progress_bar(progress);
+    let mut reporter = Reporter::new(py, progress.as_ref())?;
+    let counter = Counter::default();
     let cancel = AtomicBool::new(false);
     let result = std::thread::scope(|sc| -> PyResult<_> {
         let (tx, rx) = mpsc::channel();
-        let (o, cancel, bar) = (&o, &cancel, &bar);
+        let (o, cancel, counter) = (&o, &cancel, &counter);
         // The scene is read (and rebuilt for the overrides) on this worker thread: it never
         // waits for a parameter change holding the GIL.
         sc.spawn(move || {
-            let _ = tx.send(render_scene(scene, o, cancel, bar));
+            let _ = tx.send(render_scene(scene, o, cancel, counter));
         });
         // The workers render without the GIL; this thread takes it back now and then only to
-        // let Python run its signal handlers (Ctrl-C), which must run on the main thread.
+        // let Python run its signal handlers (Ctrl-C), which must run on the main thread, and
+        // to draw the progress the workers counted.
         let mut rx = rx;
         loop {
             let (got, back) = py.detach(move || (rx.recv_timeout(SIGNAL_POLL), rx));
@@ -78,7 +85,8 @@ pub fn render(
                     ))
                 }
             }
-            if let Err(e) = py.check_signals() {
+            let go_on = py.check_signals().and_then(|_| reporter.poll(py, counter));
+            if let Err(e) = go_on {
                 cancel.store(true, Ordering::Relaxed);
                 // Wait for the workers to unwind before the scene they read can go.
                 let _ = py.detach(move || rx.recv());
@@ -86,7 +94,8 @@ pub fn render(
             }
         }
     });
-    bar.finish_and_clear();
+    let finished = matches!(&result, Ok(Ok(Ok(_))));
+    reporter.close(py, &counter, finished);
     let (r, job) = match result?.map_err(to_py)? {
         Ok(r) => r,
         Err(glue::Cancelled) => {
@@ -106,18 +115,15 @@ type Outcome = Result<Result<(Rendered, Job), glue::Cancelled>, prism_core::erro
 
 /// Renders the scene as it is now (its parameters, its exposure), rebuilt first when `o`
 /// changes its config; the render with the job's shell (`glue::shell`) to write it by.
-fn render_scene(
-    scene: &Scene,
-    o: &Overrides,
-    cancel: &AtomicBool,
-    bar: &indicatif::ProgressBar,
-) -> Outcome {
+fn render_scene(scene: &Scene, o: &Overrides, cancel: &AtomicBool, counter: &Counter) -> Outcome {
     let st = scene.read();
     let scale = st.exposure.exp2();
     let go = |job: &Job| -> Outcome {
         let s = &job.settings;
-        bar.set_length(s.width as u64 * s.height as u64 * s.spp as u64);
-        let r = glue::render(job, &scene.file, o.threads, scale, cancel, &|n| bar.inc(n))?;
+        counter.start(s.width as u64 * s.height as u64 * s.spp as u64);
+        let r = glue::render(job, &scene.file, o.threads, scale, cancel, &|n| {
+            counter.add(n)
+        })?;
         Ok(r.map(|r| (r, glue::shell(job))))
     };
     if o.change_config() {
@@ -127,20 +133,6 @@ fn render_scene(
     } else {
         go(&st.job)
     }
-}
-
-/// A bar on a terminal; hidden elsewhere (and when `progress` is false).
-fn progress_bar(progress: bool) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    if !(progress && std::io::stderr().is_terminal()) {
-        return indicatif::ProgressBar::hidden();
-    }
-    let b = indicatif::ProgressBar::new(0);
-    if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}%  ETA {eta}")
-    {
-        b.set_style(style);
-    }
-    b
 }
 
 #[pymethods]

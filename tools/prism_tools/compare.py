@@ -52,6 +52,8 @@ class Comparison:
     prism_image: np.ndarray
     mitsuba_image: np.ndarray
     seconds: dict[str, float]
+    #: How prism rendered: "module" (in process) or "binary" (renderers.backend).
+    backend: str = "binary"
 
     @property
     def passed(self) -> bool:
@@ -71,7 +73,7 @@ class Comparison:
         rel = self.bias.rel_diff[r, c, self.channels.index(ch)] if ch else 0.0
         lines.append(f"  bias test: smallest Holm-adjusted p = {p:.3g} (tile row {r}, column {c}, {ch}: prism {rel:+.1%} vs Mitsuba); alpha {self.settings.alpha:g}")
         lines.append(f"  relMSE (prism mean vs Mitsuba mean, noise included): {self.rel_mse:.4g}")
-        lines.append(f"  time: prism {self.seconds['prism']:.1f} s, Mitsuba {self.seconds['mitsuba']:.1f} s")
+        lines.append(f"  time: prism {self.seconds['prism']:.1f} s ({self.backend}), Mitsuba {self.seconds['mitsuba']:.1f} s")
         return "\n".join(lines)
 
     def spp_text(self) -> str:
@@ -79,21 +81,22 @@ class Comparison:
 
 
 def compare(scene: str | pathlib.Path, settings: Settings | None = None, prism_bin: pathlib.Path | None = None) -> Comparison:
-    """Renders `scene` with both renderers and compares them. Raises `mitsuba_scene.Unsupported`
+    """Renders `scene` with both renderers and compares them: prism through the binary
+    `prism_bin`, or with None the default backend (renderers.backend). Raises `mitsuba_scene.Unsupported`
     (before rendering anything) when Mitsuba cannot render the scene the same way."""
     settings = settings or Settings()
     if settings.renders < 2:
         raise ValueError("at least 2 renders per renderer are needed to estimate the noise")
     scene = pathlib.Path(scene)
-    prism_bin = prism_bin or renderers.prism_binary()
     with tempfile.TemporaryDirectory(prefix="prism-export-") as tmp:
-        exported = renderers.export(prism_bin, scene, pathlib.Path(tmp))
+        exported = renderers.export(prism_bin or renderers.prism_binary(), scene, pathlib.Path(tmp))
         channels = renderers.channels(exported)
         t0 = time.perf_counter()
         mitsuba = renderers.MitsubaRenderer(exported, settings.spp)
         mitsuba_renders = [mitsuba.render(seed, channels) for seed in range(settings.renders)]
         t1 = time.perf_counter()
-    prism_renders = [renderers.render_prism(prism_bin, scene, seed, settings.spp, channels) for seed in range(settings.renders)]
+    prism = renderers.PrismRenderer(scene, settings.spp, prism_bin)
+    prism_renders = [prism.render(seed, channels) for seed in range(settings.renders)]
     t2 = time.perf_counter()
     pm, pci = stats.mean_ci(prism_renders)
     mm, mci = stats.mean_ci(mitsuba_renders)
@@ -111,6 +114,7 @@ def compare(scene: str | pathlib.Path, settings: Settings | None = None, prism_b
         prism_image=prism_image,
         mitsuba_image=mitsuba_image,
         seconds={"mitsuba": t1 - t0, "prism": t2 - t1},
+        backend=prism.backend,
     )
 
 
@@ -122,7 +126,7 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--grid", type=int, default=Settings.grid, help="tiles per side for the bias test (default %(default)s)")
     ap.add_argument("--alpha", type=float, default=Settings.alpha, help="family-wise error rate (default %(default)g)")
     ap.add_argument("--png", type=pathlib.Path, help="write the side-by-side figure here")
-    ap.add_argument("--prism", type=pathlib.Path, help="the prism binary (default $PRISM_BIN or target/release/prism)")
+    ap.add_argument("--prism", type=pathlib.Path, help="render with this prism binary (default: $PRISM_BIN, else the prism Python module where it imports, else target/release/prism)")
     return ap
 
 

@@ -1,5 +1,16 @@
-"""Running the two renderers: prism through its command line, Mitsuba 3 (a spectral variant) on
-the conversion of prism's own export of the same scene file."""
+"""Running the two renderers: prism, and Mitsuba 3 (a spectral variant) on the conversion of
+prism's own export of the same scene file.
+
+prism renders through one of two backends, which give the same bits for the same scene, spp and
+seed (tools/tests/test_python_backends.py):
+
+- "module": the `prism` Python module (python/, README "Python"), in this process, the scene
+  loaded once for all seeds; the default when `import prism` works and $PRISM_BIN is not set;
+- "binary": `prism render` in a subprocess per render, files read back; chosen by naming a
+  binary (an argument or $PRISM_BIN), for comparing builds, and by validate.py, whose report's
+  inputs digest covers the sources a binary is built from. `prism export` (the scene Mitsuba
+  gets) always runs the binary.
+"""
 
 from __future__ import annotations
 
@@ -10,7 +21,7 @@ import tempfile
 
 import numpy as np
 
-from . import images
+from . import outputs
 from . import mitsuba_scene as ms
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -40,18 +51,59 @@ def channels(exported: dict) -> list[str]:
     return names
 
 
+def backend(prism_bin: pathlib.Path | None = None) -> str:
+    """The backend a render with `prism_bin` takes: "binary" when one is named (here or in
+    $PRISM_BIN), else "module" when `import prism` works, else "binary" (this checkout's)."""
+    if prism_bin is not None or os.environ.get("PRISM_BIN"):
+        return "binary"
+    try:
+        import prism  # noqa: F401
+    except ImportError:
+        return "binary"
+    return "module"
+
+
+class PrismRenderer:
+    """prism's renders of one scene file at any seed, through backend `via` ("module" or
+    "binary"; None: `backend(prism_bin)`); `spp` overrides the scene's (None: its own)."""
+
+    def __init__(self, scene: pathlib.Path, spp: int | None = None, prism_bin: pathlib.Path | None = None, via: str | None = None):
+        self.backend = via or backend(prism_bin)
+        if self.backend not in ("module", "binary"):
+            raise ValueError(f"backend {self.backend!r}: use \"module\" or \"binary\"")
+        self.scene_file = pathlib.Path(scene)
+        self.spp = spp
+        self.prism_bin = prism_bin or prism_binary()
+        if self.backend == "module":
+            import prism
+
+            self._prism = prism
+            self.scene = prism.load_file(self.scene_file)
+
+    def channels(self, seed: int) -> dict[str, np.ndarray]:
+        """Every channel of the render with `seed`, as the EXR holds it (float32, ids uint32)."""
+        if self.backend == "module":
+            return self._prism.render(self.scene, spp=self.spp, seed=seed, progress=False).channels
+        with tempfile.TemporaryDirectory(prefix="prism-render-") as tmp:
+            out = pathlib.Path(tmp) / "render.exr"
+            cmd = [str(self.prism_bin), "render", str(self.scene_file), "-o", str(out), "-q", "--seed", str(seed)]
+            if self.spp:
+                cmd += ["--spp", str(self.spp)]
+            _run(cmd)
+            return outputs.read(out).channels
+
+    def render(self, seed: int, names: list[str] = CHANNELS) -> np.ndarray:
+        """(height, width, len(names)), channels `names` in order."""
+        ch = self.channels(seed)
+        return np.stack([ch[c] for c in names], axis=-1).astype(np.float64)
+
+
 def render_prism(
-    prism_bin: pathlib.Path, scene: pathlib.Path, seed: int, spp: int | None = None, names: list[str] = CHANNELS
+    prism_bin: pathlib.Path | None, scene: pathlib.Path, seed: int, spp: int | None = None, names: list[str] = CHANNELS
 ) -> np.ndarray:
-    """One prism render: (height, width, len(names)), channels `names` in order."""
-    with tempfile.TemporaryDirectory(prefix="prism-render-") as tmp:
-        out = pathlib.Path(tmp) / "render.exr"
-        cmd = [str(prism_bin), "render", str(scene), "-o", str(out), "-q", "--seed", str(seed)]
-        if spp:
-            cmd += ["--spp", str(spp)]
-        _run(cmd)
-        ch = images.read_channels(out)
-    return np.stack([ch[c] for c in names], axis=-1).astype(np.float64)
+    """One prism render: (height, width, len(names)), channels `names` in order; through the
+    binary `prism_bin`, or with None the default backend (`backend()`)."""
+    return PrismRenderer(scene, spp, prism_bin).render(seed, names)
 
 
 class MitsubaRenderer:

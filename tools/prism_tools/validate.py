@@ -162,7 +162,9 @@ def main(argv: list[str] | None = None) -> int:
         base = REPORT_SETTINGS.get(scene.stem, REPORT_SETTINGS["default"])
         settings = cmp.Settings(renders=args.renders or base.renders, spp=args.spp or base.spp)
         try:
-            result = cmp.compare(scene, settings)
+            # The binary, never the module: the report's digest covers the sources it is built from,
+            # and an installed module may be older than them.
+            result = cmp.compare(scene, settings, renderers.prism_binary())
         except ms.Dispersive as e:
             rows.append((scene, f"Mitsuba cannot render dispersion: {e}"))
             print(f"{scene.name}: skipped ({e})", flush=True)

@@ -39,7 +39,11 @@ def test_frames_read_in_worker_processes(dataset, method):
 def test_a_torch_dataloader_with_workers(dataset):
     """Tolerance: none. A DataLoader with two workers yields each frame once, its R channel as
     a tensor equal to the parent's array."""
-    torch = pytest.importorskip("torch")
+    torch = pytest.importorskip(
+        "torch",
+        reason="torch is not installed: it is no requirement of prism (its Linux wheels with their CUDA "
+        "libraries are ~3 GB to download, 5 GB installed); `pip install torch` into tools/.venv runs this test",
+    )
     loader = torch.utils.data.DataLoader(dataset, batch_size=None, num_workers=2)
     seen = {}
     for f in loader:
