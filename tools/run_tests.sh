@@ -37,6 +37,18 @@ if [ "$(cat "$pystamp" 2>/dev/null)" != "$pywant" ]; then
     echo "$pywant" > "$pystamp"
 fi
 
+# torch, for the DataLoader test only (tools/tests/test_python_dataset_workers.py): not a
+# requirement of prism, and PyPI's Linux wheel brings its CUDA libraries (~3 GB to download,
+# about 2 minutes here), so it is installed once beside the requirements, not pinned in them.
+# Where it cannot be had, the run goes on and that one test skips with its reason.
+torchstamp="$venv/.torch-tried"
+if [ ! -e "$torchstamp" ]; then
+    echo "== installing torch into $venv (for the DataLoader test)"
+    timeout 900 "$venv/bin/pip" install --quiet torch ||
+        echo "notice: torch could not be installed; the DataLoader test will skip" >&2
+    touch "$torchstamp"
+fi
+
 # Embree 3 for the `embree` feature: present when its pkg-config file or library is there.
 have_embree() {
     # No `grep -q`: it stops reading early, ldconfig then dies of SIGPIPE, and pipefail turns

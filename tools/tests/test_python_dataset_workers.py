@@ -42,7 +42,7 @@ def test_a_torch_dataloader_with_workers(dataset):
     torch = pytest.importorskip(
         "torch",
         reason="torch is not installed: it is no requirement of prism (its Linux wheels with their CUDA "
-        "libraries are ~3 GB to download, 5 GB installed); `pip install torch` into tools/.venv runs this test",
+        "libraries are ~3 GB to download, 5 GB installed); tools/run_tests.sh installs it where PyPI can be reached",
     )
     loader = torch.utils.data.DataLoader(dataset, batch_size=None, num_workers=2)
     seen = {}
