@@ -75,10 +75,13 @@ fn animated_triangle_turns_as_its_keys_say() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A channel of a generated file: (path, interpolation, times, outputs, output type).
+type Channel<'a> = (&'a str, &'a str, Vec<f32>, Vec<f32>, &'a str);
+
 /// A glTF document of one triangle (0,0,0), (1,0,0), (0,1,0) on node 1, under node 0 (`parent`:
 /// its JSON fields), with `channels` on node 1: (path, interpolation, times, outputs,
 /// output type).
-fn doc(parent: &str, channels: &[(&str, &str, Vec<f32>, Vec<f32>, &str)]) -> String {
+fn doc(parent: &str, channels: &[Channel]) -> String {
     let mut bytes: Vec<u8> = Vec::new();
     let mut views = Vec::new();
     let mut accessors = Vec::new();

@@ -365,13 +365,7 @@ fn force_into_a_folder_another_run_is_writing_is_refused() {
         "(scene: \"s.ron\", frames: 50, seed: 1, outputs: (spp: 256, resolution: (128, 96)))",
     )
     .unwrap();
-    std::fs::write(
-        d.join("y.ron"),
-        DATASET
-            .replace("s.ron", "s.ron")
-            .replace("seed: 1", "seed: 2"),
-    )
-    .unwrap();
+    std::fs::write(d.join("y.ron"), DATASET.replace("seed: 1", "seed: 2")).unwrap();
     let mut x = prism()
         .current_dir(&d)
         .args(["dataset", "x.ron", "-o", "out", "--quiet", "--threads", "1"])

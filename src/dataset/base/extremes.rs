@@ -18,6 +18,9 @@ use crate::spectrum::Curve;
 use glam::Vec3;
 use std::path::Path;
 
+/// How a light variation's extreme rewrites the light's spectrum.
+type Respectrum = Box<dyn Fn(&SpectrumConfig) -> SpectrumConfig>;
+
 impl Base {
     /// The checks of every variation's extremes; the first failing one is the error.
     pub(super) fn check_extremes(&self) -> Result<(), InputError> {
@@ -98,8 +101,7 @@ impl Base {
             let r = self.light(&l.target, "lights")?;
             let hi = l.intensity.map_or(1.0, |x| x.1);
             let f = format!("lights[{k}]");
-            let mut spectra: Vec<(String, Box<dyn Fn(&SpectrumConfig) -> SpectrumConfig>)> =
-                Vec::new();
+            let mut spectra: Vec<(String, Respectrum)> = Vec::new();
             if let Some((t0, t1)) = l.temperature {
                 for t in [t0, t1] {
                     let y = Curve::Blackbody {
