@@ -97,13 +97,8 @@ impl Base {
                     }
                 }
             }
-            // Flow layers follow the frames' motion (dataset::sequence), which the base lacks.
             let mut probe = scene.clone();
-            probe.aovs.retain(|a| {
-                crate::film::Aov::parse(a.trim())
-                    .and_then(|a| a.flow_dir())
-                    .is_none()
-            });
+            drop_flow_layers(&mut probe.aovs);
             let job = crate::load::build(probe, &scene_file)?;
             Ok((scene, job))
         });
@@ -362,4 +357,14 @@ fn shape_bounds(s: &crate::shape::Shape) -> (Vec3, Vec3) {
         let (a, b) = s.prim_geom(i).bounds();
         (lo.min(a), hi.max(b))
     })
+}
+
+/// Removes the flow layers from a base scene's AOVs before it is built on its own: they follow
+/// the frames' motion (dataset::sequence), which the base scene lacks.
+pub(super) fn drop_flow_layers(aovs: &mut Vec<String>) {
+    aovs.retain(|a| {
+        crate::film::Aov::parse(a.trim())
+            .and_then(|a| a.flow_dir())
+            .is_none()
+    });
 }

@@ -200,6 +200,7 @@ impl Base {
             s.film.width = w;
             s.film.height = h;
         }
+        super::drop_flow_layers(&mut s.aovs);
         for sh in &mut s.shapes {
             if sh.emitter.is_none() && matches!(sh.shape, ShapeKind::Mesh { .. }) {
                 sh.shape = ShapeKind::Sphere {
