@@ -204,11 +204,7 @@ where
 
 fn render(args: &RenderArgs) -> Result<(), Error> {
     if args.spp == Some(0) {
-        return Err(
-            crate::error::InputError::new(&args.scene, "--spp must be at least 1")
-                .hint("give a positive number of samples per pixel (--spp 16), or leave --spp out for the scene's sampler.spp")
-                .into(),
-        );
+        return Err(crate::pipeline::workers::zero_spp(&args.scene).into());
     }
     let pool = worker_pool(args.workers.threads, &args.scene)?;
     if let Err(why) = args.simd.check() {

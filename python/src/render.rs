@@ -48,8 +48,9 @@ pub fn render(
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Render> {
     if spp == Some(0) {
-        let e = prism_core::error::InputError::new(&scene.file, "--spp must be at least 1");
-        return Err(to_py(e.into()));
+        return Err(to_py(
+            prism_core::pipeline::workers::zero_spp(&scene.file).into(),
+        ));
     }
     let o = Overrides {
         spp,

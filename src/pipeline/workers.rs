@@ -20,6 +20,13 @@ pub struct WorkerArgs {
     pub quiet: bool,
 }
 
+/// The refusal of `--spp 0` (or `spp=0` from Python), one message for every front end.
+pub fn zero_spp(file: &Path) -> crate::error::InputError {
+    crate::error::InputError::new(file, "--spp must be at least 1").hint(
+        "give a positive number of samples per pixel (--spp 16), or leave --spp out for the scene's sampler.spp",
+    )
+}
+
 /// The worker threads of `--threads N` (default: one per core), for every subcommand that
 /// renders; `--threads 0` is refused naming `file` (the scene or config the command was given).
 pub fn worker_pool(threads: Option<usize>, file: &Path) -> Result<rayon::ThreadPool, Error> {
