@@ -76,17 +76,22 @@ echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== cargo clippy (release, all targets and the Python module, warnings are errors)"
 cargo clippy --release --workspace --all-targets --quiet -- -D warnings
+# --workspace on every cargo step: cargo unifies dependency features over the packages it builds,
+# and the Python module's (pyo3) enable more of syn and once_cell than prism alone does. Built for
+# prism alone, every proc macro and all that depends on serde would be compiled a second time
+# beside the module's build (`cargo +nightly test --unit-graph -Z unstable-options` shows the
+# difference); over the workspace the module's build above and these steps share one tree.
 echo "== cargo test --release"
 # Without the feature: the Embree tests report as ignored here and run in the embree step.
-PRISM_REQUIRE_EMBREE=0 cargo test --release
+PRISM_REQUIRE_EMBREE=0 cargo test --release --workspace
 if [ "$embree" = 1 ]; then
     echo "== cargo clippy --features embree (release, all targets, warnings are errors)"
-    cargo clippy --release --all-targets --features embree --quiet -- -D warnings
+    cargo clippy --release --workspace --all-targets --features prism/embree --quiet -- -D warnings
     # The backend against brute force, the CLI's --accel, scale robustness (1e-4 to 1e5) and
     # whole images against the BVH's; PRISM_REQUIRE_EMBREE=1 makes tests/embree.rs fail if the
     # feature did not make it into the build.
     echo "== cargo test --release --features embree --test accel --test cli --test stability --test embree"
-    PRISM_REQUIRE_EMBREE=1 cargo test --release --features embree --test accel --test cli --test stability --test embree
+    PRISM_REQUIRE_EMBREE=1 cargo test --release --workspace --features prism/embree --test accel --test cli --test stability --test embree
 else
     echo
     echo "!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!!"
