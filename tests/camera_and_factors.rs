@@ -4,14 +4,11 @@
 //! Each must be refused with exit 2 naming the field, and leave no output (issue 27, items 2
 //! and 3). A uniform scale and a normal exposure still render.
 
-use std::path::PathBuf;
+mod scratch;
 use std::process::Command;
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-factors-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("factors", name)
 }
 
 /// Renders `scene_text`; returns (exit code, stderr, whether the EXR or its sidecar exists).

@@ -3,6 +3,7 @@
 //! determinism across thread counts.
 
 mod common;
+mod scratch;
 
 use common::mean_se;
 use prism::film::Film;
@@ -68,11 +69,10 @@ fn directional_light_caustic_from_a_mirror_is_exact() {
 }
 
 /// Writes a 32×16 environment map, 1 everywhere but a 2×2-texel "sun" of `sun`, into a fresh
-/// temporary directory; returns the scene file path to load scenes from there.
-fn sun_map(name: &str, sun: f32) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("prism-caustics-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+/// temporary directory; returns the directory (removed when dropped) and the scene file path to
+/// load scenes from there.
+fn sun_map(name: &str, sun: f32) -> (scratch::Scratch, PathBuf) {
+    let dir = scratch::scratch("caustics", name);
     exr::prelude::write_rgb_file(dir.join("sky.exr"), 32, 16, |x, y| {
         let v = if (10..12).contains(&x) && (3..5).contains(&y) {
             sun
@@ -82,7 +82,8 @@ fn sun_map(name: &str, sun: f32) -> PathBuf {
         (v, v, v)
     })
     .unwrap();
-    dir.join("scene.ron")
+    let scene = dir.join("scene.ron");
+    (dir, scene)
 }
 
 /// Tile means of a channel over `reps` renders with seeds `first_seed..first_seed + reps`:
@@ -169,7 +170,7 @@ fn split(
     extra: &str,
     twice: bool,
 ) -> Split {
-    let file = sun_map(name, 400.0);
+    let (_dir, file) = sun_map(name, 400.0);
     if shapes.contains("ball.obj") {
         std::fs::write(file.with_file_name("ball.obj"), uv_sphere_obj(6, 12)).unwrap();
     }
@@ -437,7 +438,7 @@ fn uv_sphere_obj(rings: usize, segments: usize) -> String {
 /// thread count.
 #[test]
 fn caustics_are_deterministic_across_threads() {
-    let file = sun_map("threads", 400.0);
+    let (_dir, file) = sun_map("threads", 400.0);
     let text = r#"(
         camera: (fov: 60, to_world: [LookAt(origin: (0, 2.5, 3), target: (0, 0.2, 0), up: (0, 1, 0))]),
         film: (width: 24, height: 16),
@@ -458,7 +459,7 @@ fn caustics_are_deterministic_across_threads() {
 /// too: the batches' order of accumulation must not depend on the threads either.
 #[test]
 fn caustics_are_deterministic_over_several_batches() {
-    let file = sun_map("batches", 400.0);
+    let (_dir, file) = sun_map("batches", 400.0);
     let text = format!(
         r#"(
         camera: (fov: 60, to_world: [LookAt(origin: (0, 2.5, 3), target: (0, 0.2, 0), up: (0, 1, 0))]),

@@ -1,18 +1,16 @@
 //! The `prism` command: renders, writes its outputs, and meets bad input with a clear error
 //! (file, place, fix) on stderr, exit code 2, and no output file.
 
-use std::path::{Path, PathBuf};
+mod scratch;
+use std::path::Path;
 use std::process::Command;
 
 fn prism() -> Command {
     Command::new(env!("CARGO_BIN_EXE_prism"))
 }
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("cli", name)
 }
 
 const GOOD: &str = r#"(

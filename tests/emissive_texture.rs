@@ -16,6 +16,7 @@
 //!
 //! Tolerances are stated at each test.
 
+mod scratch;
 use glam::{Vec2, Vec3};
 use prism::emitter::{AreaEmitter, AreaRadiance, EmissionTexture, Emitter};
 use prism::interaction::SurfaceInteraction;
@@ -26,11 +27,8 @@ use prism::spectrum::Wavelengths;
 use prism::texture::{RgbImage, TexFilter, UvMap, Wrap};
 use std::path::{Path, PathBuf};
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-emistex-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("emistex", name)
 }
 
 /// Linear sRGB → CIE XYZ (IEC 61966-2-1).

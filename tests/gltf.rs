@@ -8,6 +8,7 @@
 //! rotation and texCoord, TEXCOORD_1, normal maps on mirrored uvs, the ignored occlusion
 //! texture, and orthographic cameras against RON, on small glTF files the tests write.
 
+mod scratch;
 use glam::{Mat4, Quat, Vec3};
 use prism::load::gltf;
 use serde_json::Value;
@@ -31,11 +32,8 @@ fn model(name: &str) -> PathBuf {
         .join(format!("{name}.gltf"))
 }
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-gltf-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("gltf", name)
 }
 
 /// Renders a loaded job at a small size; returns the RGB channels.

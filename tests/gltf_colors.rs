@@ -3,15 +3,13 @@
 //! here with the file's triangles, and prism's `albedo` AOV at each pixel-centre hit is
 //! compared with the interpolated colour × base colour factor × (1 − metallic).
 
+mod scratch;
 use glam::{Vec2, Vec3};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-gltfcol-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("gltfcol", name)
 }
 
 /// The bytes of buffer 0 (a base64 data URI).

@@ -5,15 +5,13 @@
 //! and writes nothing; each control next to it renders (exit 0), so a check that refuses too
 //! much fails too.
 
+mod scratch;
 use serde_json::{json, Value};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-gltfh-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("gltfh", name)
 }
 
 fn data_uri(bytes: &[u8]) -> String {

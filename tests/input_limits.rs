@@ -5,16 +5,14 @@
 //! no output, and quickly (nothing large allocated, nothing blocking).
 
 mod common;
+mod scratch;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-limits-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("limits", name)
 }
 
 /// Runs `prism render scene -o dir/out.exr extra...` with a 20 s bound; returns (exit code,

@@ -7,6 +7,7 @@
 //! each use copied into world space), normal AOV, ids and image alike, with the file's tangents
 //! and with MikkTSpace's.
 mod common;
+mod scratch;
 
 use glam::{Mat3, Quat, Vec2, Vec3, Vec4};
 use prism::film::Film;
@@ -15,11 +16,8 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-instnm-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("instnm", name)
 }
 
 /// Vertex data of one glTF mesh primitive.

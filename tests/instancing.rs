@@ -6,18 +6,16 @@
 //! than twice the peak memory of one; the memory estimate counts unique geometry.
 
 mod common;
+mod scratch;
 
 use prism::film::Film;
 use prism::integrator;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-inst-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("inst", name)
 }
 
 /// A bumpy sphere as OBJ (a `nu` × `nv` latitude-longitude grid), with vertex normals and uvs

@@ -8,9 +8,10 @@
 //! by prism's code): S_c = t·A·π/(4N²)·(η/ĉ)·L·c_c·∫λ dλ/(h c), ∫_{550}^{551} λ dλ = 550.5 nm²,
 //! and the wavelength sampling adds no noise to speak of (λ varies by 0.2% over the range).
 
+mod scratch;
 use prism::film::Film;
 use prism::integrator;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 const L: f64 = 0.75;
@@ -194,11 +195,8 @@ fn deterministic_across_threads_and_seeded() {
     assert!(differ > 24 * 24 * 9 / 10, "{differ} of 576 pixels differ");
 }
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-raw-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("raw", name)
 }
 
 /// `prism render -q SCENE -o OUT`.

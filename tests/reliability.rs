@@ -3,6 +3,7 @@
 //! (16×12 or smaller, 1-4 spp) so that the whole file takes seconds. docs/reliability.md
 //! describes what each class of input gets.
 
+mod scratch;
 use glam::{Vec2, Vec3};
 use prism::bsdf::{BsdfLike, Material};
 use prism::interaction::SurfaceInteraction;
@@ -100,11 +101,8 @@ fn prism() -> Command {
     Command::new(env!("CARGO_BIN_EXE_prism"))
 }
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-rel-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("rel", name)
 }
 
 const GOOD: &str = r#"(

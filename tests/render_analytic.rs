@@ -7,6 +7,7 @@
 //! standard error is small (≤ 0.5%), so a pass means something.
 
 mod common;
+mod scratch;
 
 use common::mean_se;
 use prism::film::Film;
@@ -368,10 +369,13 @@ fn directional_light_at_an_angle() {
 }
 
 /// Writes a `w`×`h` grey EXR (`value(row)`) to a fresh temporary directory; returns the directory.
-fn grey_exr(name: &str, w: usize, h: usize, value: impl Fn(usize) -> f32 + Sync) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("prism-analytic-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+fn grey_exr(
+    name: &str,
+    w: usize,
+    h: usize,
+    value: impl Fn(usize) -> f32 + Sync,
+) -> scratch::Scratch {
+    let dir = scratch::scratch("analytic", name);
     exr::prelude::write_rgb_file(dir.join("map.exr"), w, h, |_, y| {
         let v = value(y);
         (v, v, v)

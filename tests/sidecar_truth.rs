@@ -2,14 +2,12 @@
 //! (a glTF's buffer, a curve file a sensor file names), and the camera channels' scale is
 //! recorded with its units and is what the pixels show.
 
+mod scratch;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-truth-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("truth", name)
 }
 
 fn render(scene: &Path, exr: &Path) -> serde_json::Value {
