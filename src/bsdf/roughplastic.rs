@@ -63,14 +63,106 @@ pub fn transmittance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
     })
 }
 
-/// The transmittance table of a coating with relative index `eta`.
+/// The transmittance table of a coating with relative index `eta` (built once per process:
+/// see [`built_once`]).
 pub fn transmittance_table(mf: &Microfacet, eta: f32) -> Box<TransmittanceTable> {
+    Box::new(built_once::coating(mf, eta).transmittance)
+}
+
+fn fresh_transmittance_table(mf: &Microfacet, eta: f32) -> Box<TransmittanceTable> {
     let mut t = Box::new([0.0; TABLE_SIZE]);
     for (i, v) in t.iter_mut().enumerate() {
         let mu = (i as f32 / (TABLE_SIZE - 1) as f32).max(1e-6);
         *v = transmittance_at(mf, eta, mu);
     }
     t
+}
+
+/// The coating's tables, built once per process for each (distribution, α, η).
+///
+/// Both cost 64³ visible-normal samples each, about 0.1 s of one core together, and depend on
+/// nothing else. A dataset run or a Python session rebuilds its scenes frame after frame while
+/// a variation of colours or lights leaves the coating as it was, so what was built is kept.
+/// The tables are a deterministic function of the key: a kept table has the bits a fresh one
+/// would, and renders do not change.
+mod built_once {
+    use super::{fresh_internal_reflectance, fresh_transmittance_table, TransmittanceTable};
+    use crate::bsdf::microfacet::Microfacet;
+    use std::collections::HashMap;
+    use std::sync::{Arc, LazyLock, Mutex};
+
+    /// (distribution, α_u, α_v, η) as bits: equal keys give equal tables.
+    type Key = (u8, u32, u32, u32);
+
+    pub struct Coating {
+        pub transmittance: TransmittanceTable,
+        pub internal: f32,
+    }
+
+    /// More coatings than any scene or dataset uses; past it the map starts over, so a long
+    /// session drawing α and η at random stays bounded (4096 · ~270 bytes).
+    const CAPACITY: usize = 4096;
+
+    static COATINGS: LazyLock<Mutex<HashMap<Key, Arc<Coating>>>> =
+        LazyLock::new(|| Mutex::new(HashMap::new()));
+
+    pub fn coating(mf: &Microfacet, eta: f32) -> Arc<Coating> {
+        let key = (
+            mf.kind as u8,
+            mf.alpha_u.to_bits(),
+            mf.alpha_v.to_bits(),
+            eta.to_bits(),
+        );
+        // A poisoned lock means another thread panicked around an insert of a whole value:
+        // the map itself is intact.
+        let found = COATINGS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+            .cloned();
+        found.unwrap_or_else(|| {
+            // Built outside the lock: two threads may both build a new key, to equal values.
+            let built = Arc::new(Coating {
+                transmittance: *fresh_transmittance_table(mf, eta),
+                internal: fresh_internal_reflectance(mf, eta),
+            });
+            let mut map = COATINGS.lock().unwrap_or_else(|e| e.into_inner());
+            if map.len() >= CAPACITY {
+                map.clear();
+            }
+            map.insert(key, built.clone());
+            built
+        })
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::super::{fresh_internal_reflectance, fresh_transmittance_table};
+        use super::coating;
+        use crate::bsdf::microfacet::{Distribution, Microfacet};
+
+        /// A kept table is the fresh computation, bit for bit, for each key, and keys that
+        /// differ in one part only get their own tables.
+        #[test]
+        fn kept_tables_equal_fresh_ones() {
+            for (kind, alpha, eta) in [
+                (Distribution::Beckmann, 0.1, 1.5),
+                (Distribution::Ggx, 0.1, 1.5),
+                (Distribution::Ggx, 0.3, 1.5),
+                (Distribution::Ggx, 0.3, 1.33),
+            ] {
+                let mf = Microfacet::new(kind, alpha, alpha);
+                let table = fresh_transmittance_table(&mf, eta).map(f32::to_bits);
+                let internal = fresh_internal_reflectance(&mf, eta).to_bits();
+                for _ in 0..2 {
+                    let kept = coating(&mf, eta);
+                    let what = format!("{kind:?} α {alpha} η {eta}");
+                    assert_eq!(kept.transmittance.map(f32::to_bits), table, "{what}");
+                    assert_eq!(kept.internal.to_bits(), internal, "{what}");
+                }
+            }
+        }
+    }
 }
 
 /// Directional reflectance of the coating's microfacets for incidence cos θ = `mu` (from the
@@ -94,6 +186,10 @@ pub fn reflectance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
 /// 0.486 for GGX α 0.2, η 1.49), but it is the model's parameter: computing it exactly would
 /// make prism's roughplastic 1.3% brighter than Mitsuba's instead of equal to it.
 pub fn internal_reflectance(mf: &Microfacet, eta: f32) -> f32 {
+    built_once::coating(mf, eta).internal
+}
+
+fn fresh_internal_reflectance(mf: &Microfacet, eta: f32) -> f32 {
     let sum: f64 = (0..TABLE_SIZE)
         .map(|i| {
             let mu = (i as f32 / (TABLE_SIZE - 1) as f32).max(1e-6);
