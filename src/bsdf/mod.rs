@@ -18,37 +18,61 @@
 //! lane's BSDF would have produced the same direction (`pdf_lanes`); the integrator weights the
 //! lanes by spectral MIS with them (Wilkie et al. 2014).
 
-mod conductor;
+/// The BSDFs, one line each: `Variant(its lobe at a hit, its parameters in the scene)`. `Lobe`
+/// (lobe.rs) and `Material` (material.rs) are generated from this list, so a new BSDF is its
+/// own file (the two types, implementing `BsdfLobe` and `BsdfParams`), its `mod` line and its
+/// line here; `config` and `load` add its schema and its loader.
+macro_rules! for_each_bsdf {
+    ($then:ident) => {
+        $then! {
+            Diffuse(Diffuse<N>, DiffuseParams),
+            // Conductors.
+            Conductor(Conductor<N>, ConductorParams),
+            RoughConductor(RoughConductor<N>, RoughConductorParams),
+            // Dielectrics.
+            Dielectric(Dielectric<N>, DielectricParams),
+            RoughDielectric(RoughDielectric<N>, RoughDielectricParams),
+            ThinDielectric(ThinDielectric<N>, ThinDielectricParams),
+            // Plastics.
+            Plastic(Plastic<N>, PlasticParams),
+            RoughPlastic(RoughPlastic<'a, N>, RoughPlasticParams),
+            Principled(Principled<N>, Box<PrincipledParams>),
+        }
+    };
+}
+
 mod describe;
-pub mod dielectric;
-mod diffuse;
-pub mod fresnel;
 mod hit;
 mod lobe;
 mod material;
-pub mod microfacet;
 mod mixture;
-mod plastic;
+
+pub mod conductor;
+pub mod dielectric;
+pub mod diffuse;
+pub mod fresnel;
+pub mod microfacet;
+pub mod plastic;
 pub mod principled;
-mod roughconductor;
+pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
 pub mod thindielectric;
 
 pub use conductor::{Conductor, ConductorParams};
 pub use describe::Param;
-pub use dielectric::Dielectric;
-pub use diffuse::Diffuse;
+pub use dielectric::{Dielectric, DielectricParams};
+pub use diffuse::{Diffuse, DiffuseParams};
 pub use hit::{Bsdf, BsdfLike, BsdfSample};
-pub use lobe::Lobe;
-pub use material::Material;
+pub use lobe::{BsdfLobe, Lobe};
+pub use material::{BsdfParams, Material};
 pub use mixture::Mixture;
-pub use plastic::Plastic;
+pub use plastic::{Plastic, PlasticParams};
 pub use principled::{Principled, PrincipledParams, SpecularColorTexture};
-pub use roughconductor::RoughConductor;
-pub use roughdielectric::RoughDielectric;
-pub use roughplastic::RoughPlastic;
-pub use thindielectric::ThinDielectric;
+pub use roughconductor::{RoughConductor, RoughConductorParams};
+pub use roughdielectric::{RoughDielectric, RoughDielectricParams};
+pub use roughplastic::{RoughPlastic, RoughPlasticParams};
+pub use thindielectric::{ThinDielectric, ThinDielectricParams};
 
 /// Most leaf lobes one material may combine (blends and masks of blends…).
 pub const MAX_LOBES: usize = 4;

@@ -3,7 +3,7 @@
 
 use super::check::check;
 use super::{emitters, geometry, materials, Scene};
-use crate::bsdf::Material;
+use crate::bsdf::{DiffuseParams, Material};
 use crate::config::{self, SceneConfig};
 use crate::emitter::{AreaEmitter, Emitter};
 use crate::error::{Error, InputError};
@@ -488,9 +488,9 @@ fn material_index(
             }
         },
         None => *default_material.get_or_insert_with(|| {
-            materials.push(Material::Diffuse {
+            materials.push(Material::Diffuse(DiffuseParams {
                 reflectance: SpectralTexture::Uniform(Curve::Constant(0.5)),
-            });
+            }));
             material_names.push("(default)".into());
             (materials.len() - 1) as u32
         }),
