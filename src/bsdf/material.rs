@@ -64,7 +64,9 @@ macro_rules! material_enum {
         }
 
         impl Material {
-            #[inline]
+            // Always: out of line it costs add_lobes a call per leaf (+0.16% instructions on
+            // the materials scene).
+            #[inline(always)]
             fn leaf_lobe<'a, const N: usize>(
                 &'a self,
                 si: &SurfaceInteraction,
