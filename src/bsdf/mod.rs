@@ -20,8 +20,8 @@
 
 /// The BSDFs, one line each: `Variant(its lobe at a hit, its parameters in the scene)`. `Lobe`
 /// (lobe.rs) and `Material` (material.rs) are generated from this list, so a new BSDF is its
-/// own file (the two types, implementing `BsdfLobe` and `BsdfParams`), its `mod` line and its
-/// line here; `config` and `load` add its schema and its loader.
+/// own file (the two types, implementing `BsdfLobe` and `BsdfParams`), its `mod` and `pub use`
+/// lines and its line here; `config` and `load` add its schema and its loader.
 macro_rules! for_each_bsdf {
     ($then:ident) => {
         $then! {
