@@ -35,7 +35,7 @@ pub trait BsdfLobe<const N: usize> {
 
 /// Generates `Lobe` from the BSDF list: one variant per BSDF (its lobe type) and `Null`.
 macro_rules! lobe_enum {
-    ($($V:ident($L:ty, $P:ty)),* $(,)?) => {
+    ($($(#[$doc:meta])* $V:ident($L:ty, $P:ty) {$($schema:tt)*} [$($roles:tt)*]),* $(,)?) => {
         /// One leaf BSDF at a hit, at the path's wavelengths.
         #[derive(Clone, Copy, Debug)]
         pub enum Lobe<'a, const N: usize> {

@@ -40,7 +40,7 @@ pub trait BsdfParams {
 /// nodes of the tree, and the dispatch of `BsdfParams` to the leaves (`leaf_*`; an inner node
 /// is matched before them by every caller).
 macro_rules! material_enum {
-    ($($V:ident($L:ty, $P:ty)),* $(,)?) => {
+    ($($(#[$doc:meta])* $V:ident($L:ty, $P:ty) {$($schema:tt)*} [$($roles:tt)*]),* $(,)?) => {
         /// A material of the scene.
         #[derive(Clone, Debug, PartialEq)]
         pub enum Material {
