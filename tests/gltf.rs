@@ -10,6 +10,7 @@
 
 mod scratch;
 use glam::{Mat4, Quat, Vec3};
+use prism::bsdf::BsdfLobe;
 use prism::load::gltf;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -463,7 +464,9 @@ fn dispersion_emission_and_alpha() {
         r#""KHR_materials_ior", "KHR_materials_transmission", "KHR_materials_dispersion""#,
     );
     let job = load_text("dispersion", &glass);
-    let prism::bsdf::Material::Dielectric { ior, .. } = &job.scene.materials[0] else {
+    let prism::bsdf::Material::Dielectric(prism::bsdf::DielectricParams { ior, .. }) =
+        &job.scene.materials[0]
+    else {
         panic!("{:?}", job.scene.materials[0])
     };
     assert!(ior.dispersive());
@@ -1248,11 +1251,11 @@ fn wrap_t_and_unread_features() {
     );
     std::fs::write(&file, text).unwrap();
     let job = prism::load::load(&file, small).unwrap();
-    let prism::bsdf::Material::RoughDielectric {
+    let prism::bsdf::Material::RoughDielectric(prism::bsdf::RoughDielectricParams {
         alpha_u: prism::texture::FloatTexture::Bitmap(g),
         alpha_v,
         ..
-    } = &job.scene.materials[job.scene.shape_material[0] as usize]
+    }) = &job.scene.materials[job.scene.shape_material[0] as usize]
     else {
         panic!("{:?}", job.scene.materials)
     };

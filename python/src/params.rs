@@ -9,7 +9,7 @@
 //!
 //! Values are the RON schema in serde's JSON form, as `load_dict` takes them.
 
-use prism_core::config::{EmitterConfig, MaterialConfig, SceneConfig};
+use prism_core::config::{EmitterConfig, MaterialConfig, Roughness, SceneConfig};
 use prism_core::dataset::apply;
 use prism_core::error::InputError;
 use serde_json::{json, Value};
@@ -207,37 +207,14 @@ fn emitter_field(e: &EmitterConfig) -> &'static str {
 
 /// A material's roughness α as its config says it (None: it has none).
 fn roughness(m: &MaterialConfig) -> Option<Value> {
-    match m {
-        MaterialConfig::RoughConductor {
-            alpha,
-            alpha_u,
-            alpha_v,
-            ..
-        }
-        | MaterialConfig::RoughDielectric {
-            alpha,
-            alpha_u,
-            alpha_v,
-            ..
-        } => Some(match alpha {
-            Some(a) => json!(a),
-            None => json!({"alpha_u": alpha_u, "alpha_v": alpha_v}),
-        }),
-        MaterialConfig::RoughPlastic { alpha, .. } => Some(json!(alpha)),
-        MaterialConfig::Twosided { bsdf, .. } => roughness(bsdf),
-        _ => None,
-    }
+    m.roughness().map(|r| match r {
+        Roughness::Value(a) => json!(a),
+        Roughness::Float(a) => json!(a),
+        Roughness::Anisotropic(u, v) => json!({"alpha_u": u, "alpha_v": v}),
+    })
 }
 
 /// A material's interior IOR as its config says it (None: it has none).
 fn ior(m: &MaterialConfig) -> Option<Value> {
-    match m {
-        MaterialConfig::Dielectric { int_ior, .. }
-        | MaterialConfig::RoughDielectric { int_ior, .. }
-        | MaterialConfig::ThinDielectric { int_ior, .. }
-        | MaterialConfig::Plastic { int_ior, .. }
-        | MaterialConfig::RoughPlastic { int_ior, .. } => Some(json!(int_ior)),
-        MaterialConfig::Twosided { bsdf, .. } => ior(bsdf),
-        _ => None,
-    }
+    m.int_ior().map(|n| json!(n))
 }

@@ -1,7 +1,9 @@
 //! A smooth conductor (Mitsuba's `conductor`): mirror reflection scaled by the Fresnel
 //! reflectance of the complex index η + iκ, per wavelength. One-sided, like Mitsuba's.
 
-use super::{fresnel, BsdfSample};
+use super::describe::conductor;
+use super::{fresnel, BsdfLobe, BsdfParams, BsdfSample, Lobe, Param};
+use crate::interaction::SurfaceInteraction;
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 use crate::texture::SpectralTexture;
 use glam::{Vec2, Vec3};
@@ -23,10 +25,12 @@ impl<const N: usize> Conductor<N> {
     pub fn reflectance(&self, cos: f32) -> Spectrum<N> {
         Spectrum::from_fn(|i| fresnel::conductor(cos, self.eta[i], self.k[i])) * self.specular
     }
+}
 
+impl<const N: usize> BsdfLobe<N> for Conductor<N> {
     /// The mirror direction, with weight F(cos θ_i): the only direction this lobe scatters to.
     #[inline]
-    pub fn sample(&self, wi: Vec3, _uc: f32, _u: Vec2) -> Option<BsdfSample<N>> {
+    fn sample(&self, wi: Vec3, _uc: f32, _u: Vec2) -> Option<BsdfSample<N>> {
         if wi.z <= 0.0 {
             return None;
         }
@@ -38,6 +42,26 @@ impl<const N: usize> Conductor<N> {
             delta: true,
             eta: 1.0,
         })
+    }
+
+    #[inline]
+    fn eval(&self, _wi: Vec3, _wo: Vec3) -> Spectrum<N> {
+        Spectrum::zero()
+    }
+
+    #[inline]
+    fn pdf(&self, _wi: Vec3, _wo: Vec3) -> f32 {
+        0.0
+    }
+
+    #[inline]
+    fn has_smooth(&self) -> bool {
+        false
+    }
+
+    #[inline]
+    fn glossy(&self, _max_alpha: f32) -> bool {
+        true
     }
 }
 
@@ -61,5 +85,25 @@ impl ConductorParams {
             k: self.k.eval(wl),
             specular: self.specular_reflectance.eval(uv, wl),
         }
+    }
+}
+
+impl BsdfParams for ConductorParams {
+    #[inline]
+    fn lobe<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Lobe<'a, N> {
+        Lobe::Conductor(self.at(si.uv, wl))
+    }
+
+    fn focuses_light(&self) -> bool {
+        true
+    }
+
+    fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
+        conductor(self, put);
+        "conductor"
     }
 }

@@ -1,7 +1,8 @@
 //! What a material says about itself, so that no other floor matches on its variants: its
 //! diffuse reflectance (Mitsuba 3's `eval_diffuse_reflectance`, the `albedo` AOV) and its
-//! parameters by Mitsuba 3's names (its `traverse`, read by `prism export`). A new material
-//! answers both here, next to its enum; the readers stay as they are.
+//! parameters by Mitsuba 3's names (its `traverse`, read by `prism export`). A leaf answers
+//! both in its own file (`BsdfParams`); the inner nodes here, with the helpers several BSDFs
+//! share. The readers stay as they are.
 
 use super::microfacet::Distribution;
 use super::{ConductorParams, Material};
@@ -34,15 +35,6 @@ impl Material {
             pdf: [1.0],
         };
         match self {
-            Material::Diffuse { reflectance } => reflectance.eval(uv, &wl)[0],
-            Material::Plastic { diffuse, .. } | Material::RoughPlastic { diffuse, .. } => {
-                diffuse.eval(uv, &wl)[0]
-            }
-            Material::Principled(p) => {
-                let keep = (1.0 - p.metallic.eval(uv).clamp(0.0, 1.0))
-                    * (1.0 - p.transmission.eval(uv).clamp(0.0, 1.0));
-                p.base_color.eval(uv, &wl)[0] * keep
-            }
             Material::Twosided { front: f, back: b } => {
                 (if front { f } else { b }).diffuse_reflectance(uv, front, lambda)
             }
@@ -54,11 +46,7 @@ impl Material {
             Material::Mask { inner, opacity } => {
                 opacity.eval(uv) * inner.diffuse_reflectance(uv, front, lambda)
             }
-            Material::Conductor(_)
-            | Material::RoughConductor { .. }
-            | Material::Dielectric { .. }
-            | Material::RoughDielectric { .. }
-            | Material::ThinDielectric { .. } => 0.0,
+            leaf => leaf.leaf_diffuse_reflectance(uv, &wl),
         }
     }
 
@@ -67,10 +55,6 @@ impl Material {
     pub fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
         use Param::*;
         match self {
-            Material::Diffuse { reflectance } => {
-                put("reflectance", Texture(reflectance));
-                "diffuse"
-            }
             Material::Twosided { front, back } => {
                 put("front", Bsdf(front));
                 put("back", Bsdf(back));
@@ -87,87 +71,13 @@ impl Material {
                 put("bsdf", Bsdf(inner));
                 "mask"
             }
-            Material::Conductor(p) => {
-                conductor(p, put);
-                "conductor"
-            }
-            Material::RoughConductor {
-                params,
-                distribution,
-                alpha_u,
-                alpha_v,
-            } => {
-                conductor(params, put);
-                rough(*distribution, alpha_u, alpha_v, put);
-                "roughconductor"
-            }
-            Material::Dielectric {
-                ior,
-                specular_reflectance,
-                specular_transmittance,
-            } => {
-                dielectric(ior, specular_reflectance, specular_transmittance, put);
-                "dielectric"
-            }
-            Material::RoughDielectric {
-                ior,
-                distribution,
-                alpha_u,
-                alpha_v,
-                specular_reflectance,
-                specular_transmittance,
-            } => {
-                dielectric(ior, specular_reflectance, specular_transmittance, put);
-                rough(*distribution, alpha_u, alpha_v, put);
-                "roughdielectric"
-            }
-            Material::ThinDielectric {
-                ior,
-                specular_reflectance,
-                specular_transmittance,
-            } => {
-                dielectric(ior, specular_reflectance, specular_transmittance, put);
-                "thindielectric"
-            }
-            Material::Plastic {
-                diffuse,
-                specular,
-                eta,
-                nonlinear,
-                ..
-            } => {
-                plastic(diffuse, specular, *eta, *nonlinear, put);
-                "plastic"
-            }
-            Material::RoughPlastic {
-                diffuse,
-                specular,
-                eta,
-                microfacet,
-                nonlinear,
-                ..
-            } => {
-                plastic(diffuse, specular, *eta, *nonlinear, put);
-                put("distribution", Distribution(microfacet.kind));
-                put("alpha", Number(microfacet.alpha_u));
-                "roughplastic"
-            }
-            Material::Principled(p) => {
-                put("base_color", Texture(&p.base_color));
-                put("metallic", Float(&p.metallic));
-                put("roughness", Float(&p.roughness));
-                put("f0_ior", Number(p.f0_ior));
-                put("specular", Float(&p.specular));
-                put("specular_color", Spectrum(&p.specular_color));
-                put("specular_color_max", Number(p.specular_color_max));
-                put("transmission", Float(&p.transmission));
-                "gltf_principled"
-            }
+            leaf => leaf.leaf_traverse(put),
         }
     }
 }
 
-fn conductor<'a>(p: &'a ConductorParams, put: &mut impl FnMut(&'static str, Param<'a>)) {
+/// A conductor's optical constants and factor (`conductor`, `roughconductor`).
+pub(super) fn conductor<'a>(p: &'a ConductorParams, put: &mut impl FnMut(&'static str, Param<'a>)) {
     put("eta", Param::Spectrum(&p.eta));
     put("k", Param::Spectrum(&p.k));
     put(
@@ -176,7 +86,8 @@ fn conductor<'a>(p: &'a ConductorParams, put: &mut impl FnMut(&'static str, Para
     );
 }
 
-fn dielectric<'a>(
+/// A dielectric interface's factors and indices (the three dielectrics).
+pub(super) fn dielectric<'a>(
     ior: &'a RelativeIor,
     reflectance: &'a SpectralTexture,
     transmittance: &'a SpectralTexture,
@@ -188,7 +99,7 @@ fn dielectric<'a>(
 }
 
 /// A plastic's coating: Mitsuba takes its indices as numbers, the exterior one being air's.
-fn plastic<'a>(
+pub(super) fn plastic<'a>(
     diffuse: &'a SpectralTexture,
     specular: &'a SpectralTexture,
     eta: f32,
@@ -202,7 +113,8 @@ fn plastic<'a>(
     put("nonlinear", Param::Bool(nonlinear));
 }
 
-fn rough<'a>(
+/// A microfacet distribution with roughnesses along the tangent and bitangent.
+pub(super) fn rough<'a>(
     d: Distribution,
     u: &'a FloatTexture,
     v: &'a FloatTexture,

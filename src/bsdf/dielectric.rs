@@ -17,9 +17,12 @@
 //! produce the hero's direction: its pdf and weight are 0 (spectral MIS then gives the hero
 //! lane the whole estimate).
 
+use super::describe::dielectric;
 use super::fresnel;
-use super::BsdfSample;
-use crate::spectrum::Spectrum;
+use super::{BsdfLobe, BsdfParams, BsdfSample, Lobe, Param};
+use crate::interaction::SurfaceInteraction;
+use crate::spectrum::{RelativeIor, Spectrum, Wavelengths};
+use crate::texture::SpectralTexture;
 use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -44,9 +47,9 @@ pub fn refract(wi: Vec3, cos_t: f32, eta_ti: f32) -> Vec3 {
     Vec3::new(-eta_ti * wi.x, -eta_ti * wi.y, cos_t)
 }
 
-impl<const N: usize> Dielectric<N> {
+impl<const N: usize> BsdfLobe<N> for Dielectric<N> {
     #[inline]
-    pub fn sample(&self, wi: Vec3, uc: f32, _u: Vec2) -> Option<BsdfSample<N>> {
+    fn sample(&self, wi: Vec3, uc: f32, _u: Vec2) -> Option<BsdfSample<N>> {
         if wi.z == 0.0 {
             return None;
         }
@@ -85,6 +88,36 @@ impl<const N: usize> Dielectric<N> {
             delta: true,
             eta: eta_it,
         })
+    }
+
+    #[inline]
+    fn eval(&self, _wi: Vec3, _wo: Vec3) -> Spectrum<N> {
+        Spectrum::zero()
+    }
+
+    #[inline]
+    fn pdf(&self, _wi: Vec3, _wo: Vec3) -> f32 {
+        0.0
+    }
+
+    #[inline]
+    fn has_smooth(&self) -> bool {
+        false
+    }
+
+    #[inline]
+    fn glossy(&self, _max_alpha: f32) -> bool {
+        true
+    }
+
+    #[inline]
+    fn pdf_lanes(&self, _wi: Vec3, _wo: Vec3) -> Spectrum<N> {
+        Spectrum::zero()
+    }
+
+    #[inline]
+    fn dispersive(&self) -> bool {
+        self.dispersive
     }
 }
 
@@ -144,5 +177,48 @@ mod tests {
             (s.pdf, s.pdf_lanes.0, s.weight.0),
             (1.0, [1.0; 4], [1.0; 4])
         );
+    }
+}
+
+/// A smooth dielectric interface's parameters over the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DielectricParams {
+    pub ior: RelativeIor,
+    pub specular_reflectance: SpectralTexture,
+    pub specular_transmittance: SpectralTexture,
+}
+
+impl BsdfParams for DielectricParams {
+    #[inline]
+    fn lobe<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Lobe<'a, N> {
+        Lobe::Dielectric(Dielectric {
+            eta: self.ior.eta(wl),
+            reflectance: self.specular_reflectance.eval(si.uv, wl),
+            transmittance: self.specular_transmittance.eval(si, wl),
+            dispersive: self.ior.dispersive(),
+        })
+    }
+
+    #[inline]
+    fn dispersive(&self) -> bool {
+        self.ior.dispersive()
+    }
+
+    fn focuses_light(&self) -> bool {
+        true
+    }
+
+    fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
+        dielectric(
+            &self.ior,
+            &self.specular_reflectance,
+            &self.specular_transmittance,
+            put,
+        );
+        "dielectric"
     }
 }

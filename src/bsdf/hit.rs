@@ -82,22 +82,22 @@ pub trait BsdfLike<const N: usize> {
 impl<const N: usize> BsdfLike<N> for Diffuse<N> {
     #[inline]
     fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
-        Diffuse::eval(self, wi, wo)
+        super::BsdfLobe::eval(self, wi, wo)
     }
 
     #[inline]
     fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        Diffuse::pdf(self, wi, wo)
+        super::BsdfLobe::pdf(self, wi, wo)
     }
 
     #[inline]
     fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
-        Spectrum::splat(Diffuse::pdf(self, wi, wo))
+        super::BsdfLobe::pdf_lanes(self, wi, wo)
     }
 
     #[inline]
     fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
-        Diffuse::sample(self, wi, uc, u)
+        super::BsdfLobe::sample(self, wi, uc, u)
     }
 
     #[inline]

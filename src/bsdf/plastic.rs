@@ -5,10 +5,13 @@
 //! f_diffuse = ρ' (1 − F(θi)) (1 − F(θo)) / (π η²),  ρ' = ρ / (1 − F_dr) (or ρ / (1 − ρ F_dr) when
 //! `nonlinear`), with F_dr the hemispherical average of the internal Fresnel reflectance.
 
+use super::describe::plastic;
 use super::fresnel;
-use super::BsdfSample;
+use super::{BsdfLobe, BsdfParams, BsdfSample, Lobe, Param};
+use crate::interaction::SurfaceInteraction;
 use crate::math::sampling::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
-use crate::spectrum::Spectrum;
+use crate::spectrum::{Spectrum, Wavelengths};
+use crate::texture::{SpectralTexture, TexPoint};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
@@ -34,9 +37,9 @@ pub(super) fn specular_probability(f_i: f32, weight: f32) -> f32 {
     }
 }
 
-impl<const N: usize> Plastic<N> {
+impl<const N: usize> BsdfLobe<N> for Plastic<N> {
     #[inline]
-    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return Spectrum::zero();
         }
@@ -46,7 +49,7 @@ impl<const N: usize> Plastic<N> {
     }
 
     #[inline]
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
@@ -56,7 +59,7 @@ impl<const N: usize> Plastic<N> {
     }
 
     #[inline]
-    pub fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+    fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
         if wi.z <= 0.0 {
             return None;
         }
@@ -78,5 +81,66 @@ impl<const N: usize> Plastic<N> {
             return None;
         }
         Some(BsdfSample::reflection(wo, pdf, self.eval(wi, wo) / pdf))
+    }
+
+    #[inline]
+    fn glossy(&self, _max_alpha: f32) -> bool {
+        false
+    }
+}
+
+/// ρ' = ρ / (1 − F_dr), or ρ / (1 − ρ F_dr) with `nonlinear`: the diffuse base with the light
+/// that bounces between it and the coating's underside folded in.
+#[inline]
+pub(super) fn fold_internal<const N: usize>(
+    rho: Spectrum<N>,
+    internal: f32,
+    nonlinear: bool,
+) -> Spectrum<N> {
+    if nonlinear {
+        Spectrum::from_fn(|i| rho[i] / (1.0 - rho[i] * internal))
+    } else {
+        rho / (1.0 - internal)
+    }
+}
+
+/// A smooth plastic's parameters over the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlasticParams {
+    pub diffuse: SpectralTexture,
+    pub specular: SpectralTexture,
+    pub eta: f32,
+    /// Hemispherical average of the internal Fresnel reflectance.
+    pub internal: f32,
+    pub nonlinear: bool,
+    pub specular_weight: f32,
+}
+
+impl BsdfParams for PlasticParams {
+    #[inline]
+    fn lobe<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Lobe<'a, N> {
+        Lobe::Plastic(Plastic {
+            diffuse: fold_internal(self.diffuse.eval(si.uv, wl), self.internal, self.nonlinear),
+            specular: self.specular.eval(si.uv, wl),
+            eta: self.eta,
+            specular_weight: self.specular_weight,
+        })
+    }
+
+    fn focuses_light(&self) -> bool {
+        true
+    }
+
+    fn diffuse_reflectance(&self, uv: TexPoint, wl: &Wavelengths<1>) -> f32 {
+        self.diffuse.eval(uv, wl)[0]
+    }
+
+    fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
+        plastic(&self.diffuse, &self.specular, self.eta, self.nonlinear, put);
+        "plastic"
     }
 }

@@ -25,7 +25,8 @@
 
 use super::microfacet::Distribution;
 use super::microfacet::Microfacet;
-use super::BsdfSample;
+use super::{BsdfLobe, BsdfParams, BsdfSample, Lobe, Param};
+use crate::interaction::SurfaceInteraction;
 use crate::math::sampling::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 use crate::texture::{FloatTexture, SpectralTexture, TexPoint};
@@ -147,10 +148,12 @@ impl<const N: usize> Principled<N> {
         }
         d * self.distr.g(wi, wo, h) / (4.0 * wi.z)
     }
+}
 
+impl<const N: usize> BsdfLobe<N> for Principled<N> {
     /// f(wi, wo) · |cos θo| per lane.
     #[inline]
-    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         if wi.z == 0.0 || wo.z == 0.0 {
             return Spectrum::zero();
         }
@@ -177,7 +180,7 @@ impl<const N: usize> Principled<N> {
 
     /// Density of `sample` (solid angle).
     #[inline]
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         if wi.z == 0.0 || wo.z == 0.0 {
             return 0.0;
         }
@@ -199,7 +202,7 @@ impl<const N: usize> Principled<N> {
     }
 
     #[inline]
-    pub fn sample(&self, wi_in: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+    fn sample(&self, wi_in: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
         if wi_in.z == 0.0 {
             return None;
         }
@@ -231,5 +234,44 @@ impl<const N: usize> Principled<N> {
         }
         let f = self.eval(wi_in, wo);
         Some(BsdfSample::reflection(wo, pdf, f / pdf))
+    }
+
+    /// Only a pure metal is glossy throughout (a dielectric has a diffuse base).
+    #[inline]
+    fn glossy(&self, max_alpha: f32) -> bool {
+        self.metallic >= 1.0 && self.distr.alpha_u <= max_alpha
+    }
+}
+
+impl BsdfParams for PrincipledParams {
+    #[inline]
+    fn lobe<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Lobe<'a, N> {
+        Lobe::Principled(self.at(si, wl))
+    }
+
+    fn focuses_light(&self) -> bool {
+        true
+    }
+
+    fn diffuse_reflectance(&self, uv: TexPoint, wl: &Wavelengths<1>) -> f32 {
+        let keep = (1.0 - self.metallic.eval(uv).clamp(0.0, 1.0))
+            * (1.0 - self.transmission.eval(uv).clamp(0.0, 1.0));
+        self.base_color.eval(uv, wl)[0] * keep
+    }
+
+    fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
+        put("base_color", Param::Texture(&self.base_color));
+        put("metallic", Param::Float(&self.metallic));
+        put("roughness", Param::Float(&self.roughness));
+        put("f0_ior", Param::Number(self.f0_ior));
+        put("specular", Param::Float(&self.specular));
+        put("specular_color", Param::Spectrum(&self.specular_color));
+        put("specular_color_max", Param::Number(self.specular_color_max));
+        put("transmission", Param::Float(&self.transmission));
+        "gltf_principled"
     }
 }

@@ -5,9 +5,13 @@
 //! One-sided, like Mitsuba's.
 
 use super::conductor::Conductor;
+use super::describe::{conductor, rough};
+use super::microfacet::Distribution;
 use super::microfacet::Microfacet;
-use super::BsdfSample;
-use crate::spectrum::Spectrum;
+use super::{BsdfLobe, BsdfParams, BsdfSample, ConductorParams, Lobe, Param};
+use crate::interaction::SurfaceInteraction;
+use crate::spectrum::{Spectrum, Wavelengths};
+use crate::texture::FloatTexture;
 use glam::{Vec2, Vec3};
 
 /// A rough conductor at the path's wavelengths.
@@ -19,10 +23,10 @@ pub struct RoughConductor<const N: usize> {
     pub distr: Microfacet,
 }
 
-impl<const N: usize> RoughConductor<N> {
+impl<const N: usize> BsdfLobe<N> for RoughConductor<N> {
     /// f · cos θ_o = F D G / (4 cos θ_i).
     #[inline]
-    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return Spectrum::zero();
         }
@@ -38,7 +42,7 @@ impl<const N: usize> RoughConductor<N> {
     /// Density of `sample`: the visible normals' density times the Jacobian 1 / (4 wo·m) of
     /// reflecting about m.
     #[inline]
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
@@ -47,7 +51,7 @@ impl<const N: usize> RoughConductor<N> {
     }
 
     #[inline]
-    pub fn sample(&self, wi: Vec3, _uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+    fn sample(&self, wi: Vec3, _uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
         if wi.z <= 0.0 {
             return None;
         }
@@ -64,5 +68,49 @@ impl<const N: usize> RoughConductor<N> {
         // f cos θ_o / pdf: D and G1(wi) cancel against the visible normals' density.
         let weight = self.surface.reflectance(cos_m) * self.distr.g1(wo, m);
         Some(BsdfSample::reflection(wo, pdf, weight))
+    }
+
+    #[inline]
+    fn glossy(&self, max_alpha: f32) -> bool {
+        self.distr.alpha_u.max(self.distr.alpha_v) <= max_alpha
+    }
+}
+
+/// A rough conductor's parameters over the surface; the roughnesses along the tangent and
+/// bitangent may vary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoughConductorParams {
+    pub params: ConductorParams,
+    pub distribution: Distribution,
+    pub alpha_u: FloatTexture,
+    pub alpha_v: FloatTexture,
+}
+
+impl BsdfParams for RoughConductorParams {
+    #[inline]
+    fn lobe<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Lobe<'a, N> {
+        Lobe::RoughConductor(RoughConductor {
+            surface: self.params.at(si.uv, wl),
+            // Texture values outside [0, 1] are clamped, as for blend weights and opacities.
+            distr: Microfacet::new(
+                self.distribution,
+                self.alpha_u.eval(si.uv).clamp(0.0, 1.0),
+                self.alpha_v.eval(si.uv).clamp(0.0, 1.0),
+            ),
+        })
+    }
+
+    fn focuses_light(&self) -> bool {
+        true
+    }
+
+    fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
+        conductor(&self.params, put);
+        rough(self.distribution, &self.alpha_u, &self.alpha_v, put);
+        "roughconductor"
     }
 }

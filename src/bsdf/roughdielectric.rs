@@ -19,10 +19,14 @@
 //! Lane k's density of the same wo uses its own η_k: the same m for reflection (only F_k
 //! differs), its own generalised half vector for refraction. Those densities are `pdf_lanes`.
 
+use super::describe::{dielectric, rough};
 use super::fresnel;
+use super::microfacet::Distribution;
 use super::microfacet::Microfacet;
-use super::BsdfSample;
-use crate::spectrum::Spectrum;
+use super::{BsdfLobe, BsdfParams, BsdfSample, Lobe, Param};
+use crate::interaction::SurfaceInteraction;
+use crate::spectrum::{RelativeIor, Spectrum, Wavelengths};
+use crate::texture::{FloatTexture, SpectralTexture};
 use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -91,9 +95,11 @@ impl<const N: usize> RoughDielectric<N> {
         }
         (v, p, reflect)
     }
+}
 
+impl<const N: usize> BsdfLobe<N> for RoughDielectric<N> {
     #[inline]
-    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         let (v, _, reflect) = self.lanes(wi, wo);
         v * if reflect {
             self.reflectance
@@ -103,17 +109,17 @@ impl<const N: usize> RoughDielectric<N> {
     }
 
     #[inline]
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         self.lane(wi, wo, self.eta[0]).1
     }
 
     #[inline]
-    pub fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+    fn pdf_lanes(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         self.lanes(wi, wo).1
     }
 
     #[inline]
-    pub fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+    fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
         if wi.z == 0.0 {
             return None;
         }
@@ -151,5 +157,68 @@ impl<const N: usize> RoughDielectric<N> {
             delta: false,
             eta: if reflect { 1.0 } else { eta_it },
         })
+    }
+
+    #[inline]
+    fn glossy(&self, max_alpha: f32) -> bool {
+        self.dist.alpha_u.max(self.dist.alpha_v) <= max_alpha
+    }
+
+    #[inline]
+    fn dispersive(&self) -> bool {
+        self.dispersive
+    }
+}
+
+/// A rough dielectric interface's parameters over the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoughDielectricParams {
+    pub ior: RelativeIor,
+    pub distribution: Distribution,
+    pub alpha_u: FloatTexture,
+    pub alpha_v: FloatTexture,
+    pub specular_reflectance: SpectralTexture,
+    pub specular_transmittance: SpectralTexture,
+}
+
+impl BsdfParams for RoughDielectricParams {
+    #[inline]
+    fn lobe<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Lobe<'a, N> {
+        Lobe::RoughDielectric(RoughDielectric {
+            eta: self.ior.eta(wl),
+            reflectance: self.specular_reflectance.eval(si.uv, wl),
+            transmittance: self.specular_transmittance.eval(si, wl),
+            // Texture values outside [0, 1] are clamped, as for conductors.
+            dist: Microfacet::new(
+                self.distribution,
+                self.alpha_u.eval(si.uv).clamp(0.0, 1.0),
+                self.alpha_v.eval(si.uv).clamp(0.0, 1.0),
+            ),
+            dispersive: self.ior.dispersive(),
+        })
+    }
+
+    #[inline]
+    fn dispersive(&self) -> bool {
+        self.ior.dispersive()
+    }
+
+    fn focuses_light(&self) -> bool {
+        true
+    }
+
+    fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
+        dielectric(
+            &self.ior,
+            &self.specular_reflectance,
+            &self.specular_transmittance,
+            put,
+        );
+        rough(self.distribution, &self.alpha_u, &self.alpha_v, put);
+        "roughdielectric"
     }
 }

@@ -5,11 +5,14 @@
 //! load as Mitsuba does (64 entries, linear in cos θ), with internal reflections folded in
 //! through the internal reflectance. Pinned to Mitsuba 3.9.1's values in tests/bsdf.rs.
 
+use super::describe::plastic;
 use super::microfacet::Microfacet;
-use super::plastic::specular_probability;
-use super::{fresnel, BsdfSample};
+use super::plastic::{fold_internal, specular_probability};
+use super::{fresnel, BsdfLobe, BsdfParams, BsdfSample, Lobe, Param};
+use crate::interaction::SurfaceInteraction;
 use crate::math::sampling::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
-use crate::spectrum::Spectrum;
+use crate::spectrum::{Spectrum, Wavelengths};
+use crate::texture::{SpectralTexture, TexPoint};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
@@ -207,9 +210,11 @@ impl<const N: usize> RoughPlastic<'_, N> {
         let t = x - i as f32;
         self.transmittance[i] * (1.0 - t) + self.transmittance[i + 1] * t
     }
+}
 
+impl<const N: usize> BsdfLobe<N> for RoughPlastic<'_, N> {
     #[inline]
-    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Spectrum<N> {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return Spectrum::zero();
         }
@@ -224,7 +229,7 @@ impl<const N: usize> RoughPlastic<'_, N> {
     }
 
     #[inline]
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
@@ -236,7 +241,7 @@ impl<const N: usize> RoughPlastic<'_, N> {
     }
 
     #[inline]
-    pub fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
+    fn sample(&self, wi: Vec3, uc: f32, u: Vec2) -> Option<BsdfSample<N>> {
         if wi.z <= 0.0 {
             return None;
         }
@@ -252,5 +257,56 @@ impl<const N: usize> RoughPlastic<'_, N> {
             return None;
         }
         Some(BsdfSample::reflection(wo, pdf, self.eval(wi, wo) / pdf))
+    }
+
+    #[inline]
+    fn glossy(&self, _max_alpha: f32) -> bool {
+        false
+    }
+}
+
+/// A rough plastic's parameters over the surface, with its coating's tables computed at load.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoughPlasticParams {
+    pub diffuse: SpectralTexture,
+    pub specular: SpectralTexture,
+    pub eta: f32,
+    pub microfacet: Microfacet,
+    pub transmittance: Box<TransmittanceTable>,
+    pub internal: f32,
+    pub nonlinear: bool,
+    pub specular_weight: f32,
+}
+
+impl BsdfParams for RoughPlasticParams {
+    #[inline]
+    fn lobe<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Lobe<'a, N> {
+        Lobe::RoughPlastic(RoughPlastic {
+            diffuse: fold_internal(self.diffuse.eval(si.uv, wl), self.internal, self.nonlinear),
+            specular: self.specular.eval(si.uv, wl),
+            eta: self.eta,
+            microfacet: self.microfacet,
+            specular_weight: self.specular_weight,
+            transmittance: &self.transmittance,
+        })
+    }
+
+    fn focuses_light(&self) -> bool {
+        false
+    }
+
+    fn diffuse_reflectance(&self, uv: TexPoint, wl: &Wavelengths<1>) -> f32 {
+        self.diffuse.eval(uv, wl)[0]
+    }
+
+    fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
+        plastic(&self.diffuse, &self.specular, self.eta, self.nonlinear, put);
+        put("distribution", Param::Distribution(self.microfacet.kind));
+        put("alpha", Param::Number(self.microfacet.alpha_u));
+        "roughplastic"
     }
 }

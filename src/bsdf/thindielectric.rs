@@ -13,9 +13,12 @@
 //! with its own probability: `pdf_lanes[k]` = R'_k or 1 − R'_k, and the weight is the lane's
 //! value over the hero's probability.
 
+use super::describe::dielectric;
 use super::fresnel;
-use super::BsdfSample;
-use crate::spectrum::Spectrum;
+use super::{BsdfLobe, BsdfParams, BsdfSample, Lobe, Param};
+use crate::interaction::SurfaceInteraction;
+use crate::spectrum::{RelativeIor, Spectrum, Wavelengths};
+use crate::texture::SpectralTexture;
 use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug)]
@@ -35,9 +38,9 @@ pub fn slab_reflectance(cos_abs: f32, eta: f32) -> f32 {
     2.0 * r / (1.0 + r)
 }
 
-impl<const N: usize> ThinDielectric<N> {
+impl<const N: usize> BsdfLobe<N> for ThinDielectric<N> {
     #[inline]
-    pub fn sample(&self, wi: Vec3, uc: f32, _u: Vec2) -> Option<BsdfSample<N>> {
+    fn sample(&self, wi: Vec3, uc: f32, _u: Vec2) -> Option<BsdfSample<N>> {
         if wi.z == 0.0 {
             return None;
         }
@@ -63,6 +66,36 @@ impl<const N: usize> ThinDielectric<N> {
             delta: true,
             eta: 1.0,
         })
+    }
+
+    #[inline]
+    fn eval(&self, _wi: Vec3, _wo: Vec3) -> Spectrum<N> {
+        Spectrum::zero()
+    }
+
+    #[inline]
+    fn pdf(&self, _wi: Vec3, _wo: Vec3) -> f32 {
+        0.0
+    }
+
+    #[inline]
+    fn has_smooth(&self) -> bool {
+        false
+    }
+
+    #[inline]
+    fn glossy(&self, _max_alpha: f32) -> bool {
+        true
+    }
+
+    #[inline]
+    fn pdf_lanes(&self, _wi: Vec3, _wo: Vec3) -> Spectrum<N> {
+        Spectrum::zero()
+    }
+
+    #[inline]
+    fn dispersive(&self) -> bool {
+        self.dispersive
     }
 }
 
@@ -101,5 +134,48 @@ mod tests {
             assert!((t.pdf_lanes[k] - tk).abs() < 1e-6);
             assert!((t.weight[k] - tk / t.pdf).abs() < 1e-6);
         }
+    }
+}
+
+/// A thin dielectric slab's parameters over the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThinDielectricParams {
+    pub ior: RelativeIor,
+    pub specular_reflectance: SpectralTexture,
+    pub specular_transmittance: SpectralTexture,
+}
+
+impl BsdfParams for ThinDielectricParams {
+    #[inline]
+    fn lobe<'a, const N: usize>(
+        &'a self,
+        si: &SurfaceInteraction,
+        wl: &Wavelengths<N>,
+    ) -> Lobe<'a, N> {
+        Lobe::ThinDielectric(ThinDielectric {
+            eta: self.ior.eta(wl),
+            reflectance: self.specular_reflectance.eval(si.uv, wl),
+            transmittance: self.specular_transmittance.eval(si.uv, wl),
+            dispersive: self.ior.dispersive(),
+        })
+    }
+
+    #[inline]
+    fn dispersive(&self) -> bool {
+        self.ior.dispersive()
+    }
+
+    fn focuses_light(&self) -> bool {
+        true
+    }
+
+    fn traverse<'a>(&'a self, put: &mut impl FnMut(&'static str, Param<'a>)) -> &'static str {
+        dielectric(
+            &self.ior,
+            &self.specular_reflectance,
+            &self.specular_transmittance,
+            put,
+        );
+        "thindielectric"
     }
 }

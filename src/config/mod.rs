@@ -35,7 +35,7 @@ pub use emitter::{Emission, EmitterConfig, Placement};
 pub(crate) use float::unit_scale;
 pub use float::{FloatConfig, FloatTextureConfig};
 pub use ior::{IorConfig, IorForm, MAX_IOR, MIN_IOR};
-pub use material::{Field, MaterialConfig};
+pub use material::{Field, MaterialConfig, Roughness};
 pub use motion::{AnimationConfig, Interpolation, KeyConfig, ShutterConfig};
 pub(crate) use parse::utf8;
 pub use parse::{parse_file, parse_str};

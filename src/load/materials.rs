@@ -4,7 +4,11 @@ mod interfaces;
 mod scalars;
 
 use crate::bsdf::microfacet::Microfacet;
-use crate::bsdf::{fresnel, roughplastic, Material, MAX_LOBES};
+use crate::bsdf::{
+    fresnel, roughplastic, DielectricParams, DiffuseParams, Material, PlasticParams,
+    RoughConductorParams, RoughDielectricParams, RoughPlasticParams, ThinDielectricParams,
+    MAX_LOBES,
+};
 use crate::config::MaterialConfig;
 use crate::error::InputError;
 use crate::load::{spectrum_ctx, Role};
@@ -41,13 +45,13 @@ fn build(
 ) -> Result<Material, InputError> {
     let ctx = |sub: &str| format!("{field}.{sub}");
     Ok(match m {
-        MaterialConfig::Diffuse { reflectance } => Material::Diffuse {
+        MaterialConfig::Diffuse { reflectance } => Material::Diffuse(DiffuseParams {
             reflectance: reflectance.resolve_texture(
                 Role::Reflectance,
                 &spectrum_ctx(file, &ctx("reflectance"), range),
                 warnings,
             )?,
-        },
+        }),
         MaterialConfig::Twosided { bsdf, back } => {
             let front = build(bsdf, &ctx("bsdf"), file, range, warnings)?;
             let back = match back {
@@ -84,7 +88,7 @@ fn build(
             specular_reflectance,
         } => {
             let (alpha_u, alpha_v) = roughnesses(alpha, alpha_u, alpha_v, field, file)?;
-            Material::RoughConductor {
+            Material::RoughConductor(RoughConductorParams {
                 params: conductor(
                     material.as_deref(),
                     eta.as_ref(),
@@ -98,7 +102,7 @@ fn build(
                 distribution: *distribution,
                 alpha_u,
                 alpha_v,
-            }
+            })
         }
         MaterialConfig::Principled {
             base_color,
@@ -153,11 +157,11 @@ fn build(
                 range,
                 warnings,
             )?;
-            Material::Dielectric {
+            Material::Dielectric(DielectricParams {
                 ior: relative_ior(int_ior, ext_ior, field, file, range)?,
                 specular_reflectance: r,
                 specular_transmittance: t,
-            }
+            })
         }
         MaterialConfig::RoughDielectric {
             distribution,
@@ -186,14 +190,14 @@ fn build(
                 range,
                 warnings,
             )?;
-            Material::RoughDielectric {
+            Material::RoughDielectric(RoughDielectricParams {
                 ior,
                 distribution: *distribution,
                 alpha_u,
                 alpha_v,
                 specular_reflectance: r,
                 specular_transmittance: t,
-            }
+            })
         }
         MaterialConfig::ThinDielectric {
             int_ior,
@@ -209,11 +213,11 @@ fn build(
                 range,
                 warnings,
             )?;
-            Material::ThinDielectric {
+            Material::ThinDielectric(ThinDielectricParams {
                 ior: relative_ior(int_ior, ext_ior, field, file, range)?,
                 specular_reflectance: r,
                 specular_transmittance: t,
-            }
+            })
         }
         // Plastics.
         MaterialConfig::Plastic {
@@ -234,14 +238,14 @@ fn build(
                 &spectrum_ctx(file, &ctx("specular_reflectance"), range),
                 warnings,
             )?;
-            Material::Plastic {
+            Material::Plastic(PlasticParams {
                 specular_weight: specular_weight(&diffuse, &specular, range),
                 diffuse,
                 specular,
                 eta,
                 internal: fresnel::dielectric_average(1.0 / eta),
                 nonlinear: *nonlinear,
-            }
+            })
         }
         MaterialConfig::RoughPlastic {
             distribution,
@@ -265,7 +269,7 @@ fn build(
                 &spectrum_ctx(file, &ctx("specular_reflectance"), range),
                 warnings,
             )?;
-            Material::RoughPlastic {
+            Material::RoughPlastic(RoughPlasticParams {
                 specular_weight: specular_weight(&diffuse, &specular, range),
                 diffuse,
                 specular,
@@ -274,7 +278,7 @@ fn build(
                 internal: roughplastic::internal_reflectance(&microfacet, eta),
                 microfacet,
                 nonlinear: *nonlinear,
-            }
+            })
         }
     })
 }

@@ -22,6 +22,7 @@ mod objects;
 mod principled;
 mod relight;
 pub mod sensor;
+mod settings;
 pub mod spectrum;
 
 /// The input-file record, as the loader's modules name it (`super::inputs`).

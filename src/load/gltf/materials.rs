@@ -11,7 +11,9 @@
 
 use super::Model;
 use crate::bsdf::microfacet::Distribution;
-use crate::bsdf::{Material, PrincipledParams, SpecularColorTexture};
+use crate::bsdf::{
+    DielectricParams, Material, PrincipledParams, RoughDielectricParams, SpecularColorTexture,
+};
 use crate::emitter::AreaRadiance;
 use crate::error::InputError;
 use crate::load::principled::{f0_from_ior, rgb_factor};
@@ -494,20 +496,20 @@ impl<'a> GltfMaterials<'a> {
                 _ => FloatTexture::Constant(r),
             };
             if r > 1e-3 || matches!(alpha, FloatTexture::Bitmap(_)) {
-                Material::RoughDielectric {
+                Material::RoughDielectric(RoughDielectricParams {
                     ior: rel,
                     distribution: Distribution::Ggx,
                     alpha_u: alpha.clone(),
                     alpha_v: alpha,
                     specular_reflectance: SpectralTexture::Uniform(Curve::Constant(1.0)),
                     specular_transmittance: tint,
-                }
+                })
             } else {
-                Material::Dielectric {
+                Material::Dielectric(DielectricParams {
                     ior: rel,
                     specular_reflectance: SpectralTexture::Uniform(Curve::Constant(1.0)),
                     specular_transmittance: tint,
-                }
+                })
             }
         } else {
             Material::Principled(Box::new(PrincipledParams {
