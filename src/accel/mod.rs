@@ -85,9 +85,8 @@ impl Accel {
         }
     }
 
-    /// True if anything lies on the ray within (0, t_max). Always inline, like `spawn_to`:
-    /// rustc kept it out of line (3.4% of a Cornell render), in baseline SSE2.
-    #[inline(always)]
+    /// True if anything lies on the ray within (0, t_max).
+    #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
         match self {
             Accel::Bvh(b) => b.occluded(ray),

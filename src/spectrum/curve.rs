@@ -287,9 +287,6 @@ impl Curve {
                 let d = illuminant.eval_lanes(&wl.lambda);
                 Spectrum::from_fn(|i| scale * s[i] * d[i])
             }
-            Curve::Irregular { nm, values } => {
-                Spectrum::from_fn(|i| irregular(nm, values, wl.lambda[i]))
-            }
             _ => Spectrum::from_fn(|i| self.eval_one(wl.lambda[i])),
         }
     }

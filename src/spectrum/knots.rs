@@ -17,7 +17,8 @@ pub struct Knots {
     /// The first knot's wavelength and the cells per nm.
     lo: f32,
     inv_cell: f32,
-    /// Per cell: how many knots lie at or before the cell's start (a guess the walk corrects).
+    /// Per cell: how many knots lie before the cell's start (a guess the walk corrects; 0 for
+    /// the first cell, which is where NaN lands, whose answer is 0).
     first: Vec<u32>,
 }
 
@@ -44,7 +45,7 @@ impl Knots {
         let first = (0..cells)
             .map(|c| {
                 let start = lo + c as f32 / inv_cell.max(f32::MIN_POSITIVE);
-                nm.partition_point(|&w| w <= start) as u32
+                nm.partition_point(|&w| w < start) as u32
             })
             .collect();
         Knots {
