@@ -48,7 +48,9 @@ impl SurfaceInteraction {
     }
 
     /// A shadow ray to `target` (on a surface with normal `target_n`, or a free point).
-    #[inline]
+    /// Always inline: out of line it was 5.7% of a Cornell render's instructions in the packet
+    /// kernel, compiled for baseline SSE2 instead of the kernel's AVX2.
+    #[inline(always)]
     pub fn spawn_to(&self, target: Vec3, target_error: Vec3, target_n: Option<Vec3>) -> Ray {
         Ray {
             time: self.time,

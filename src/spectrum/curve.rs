@@ -5,6 +5,7 @@
 
 use super::color::cie1931;
 use super::gamut::Gamut;
+use super::knots::Knots;
 use super::rgb2spec::{self, Sigmoid};
 use super::sampled::Spectrum;
 use super::wavelengths::Wavelengths;
@@ -101,13 +102,16 @@ impl Dense {
     }
 }
 
+/// `repr(u8)`: a plain tag byte. Without it rustc may keep the variant in a niche of a field
+/// (a `Vec` capacity in `Irregular`), which cost every `eval` five instructions to decode.
 #[derive(Clone, Debug, PartialEq)]
+#[repr(u8)]
 pub enum Curve {
     Constant(f32),
     Dense(Dense),
     /// Unevenly spaced samples, linearly interpolated; 0 outside their range.
     Irregular {
-        nm: Vec<f32>,
+        nm: Knots,
         values: Vec<f32>,
     },
     /// Planck's law in W m⁻² sr⁻¹ nm⁻¹, times `scale`.
@@ -142,6 +146,18 @@ pub fn planck(lambda: f32, kelvin: f32) -> f32 {
     (radiance_per_m * 1e-9) as f32
 }
 
+/// An `Irregular` curve at `lambda`: 0 outside the knots, else linear between the two around it.
+#[inline]
+fn irregular(knots: &Knots, values: &[f32], lambda: f32) -> f32 {
+    let nm = knots.nm();
+    if lambda < nm[0] || lambda > nm[nm.len() - 1] {
+        return 0.0;
+    }
+    let i = knots.upper(lambda).clamp(1, nm.len() - 1);
+    let t = (lambda - nm[i - 1]) / (nm[i] - nm[i - 1]);
+    values[i - 1] + t * (values[i] - values[i - 1])
+}
+
 impl Curve {
     /// A curve through (nm, value) samples: `Dense` when the spacing is even, else `Irregular`.
     /// `nm` must be strictly increasing with at least one sample (the config checks).
@@ -163,7 +179,7 @@ impl Curve {
             })
         } else {
             Curve::Irregular {
-                nm: nm.iter().map(|&v| v as f32).collect(),
+                nm: Knots::new(nm.iter().map(|&v| v as f32).collect()),
                 values: values.iter().map(|&v| v as f32).collect(),
             }
         }
@@ -244,14 +260,7 @@ impl Curve {
         match self {
             Curve::Constant(v) => *v,
             Curve::Dense(d) => d.eval(lambda),
-            Curve::Irregular { nm, values } => {
-                if lambda < nm[0] || lambda > nm[nm.len() - 1] {
-                    return 0.0;
-                }
-                let i = nm.partition_point(|&w| w <= lambda).clamp(1, nm.len() - 1);
-                let t = (lambda - nm[i - 1]) / (nm[i] - nm[i - 1]);
-                values[i - 1] + t * (values[i] - values[i - 1])
-            }
+            Curve::Irregular { nm, values } => irregular(nm, values, lambda),
             Curve::Blackbody { kelvin, scale } => scale * planck(lambda, *kelvin),
             Curve::Rgb { sigmoid, scale } => scale * sigmoid.eval(lambda),
             Curve::RgbIlluminant {
@@ -302,7 +311,7 @@ impl Curve {
                     .map(|i| a + (b - a) * i as f32 / (n - 1).max(1) as f32)
                     .collect()
             }
-            Curve::Irregular { nm, .. } => nm.clone(),
+            Curve::Irregular { nm, .. } => nm.nm().to_vec(),
             _ => {
                 let n = (hi - lo).ceil() as usize;
                 (0..=n).map(|i| (lo + i as f32).min(hi)).collect()
@@ -321,7 +330,10 @@ impl Curve {
     pub fn support(&self) -> Option<(f32, f32)> {
         match self {
             Curve::Dense(d) => Some(d.range()),
-            Curve::Irregular { nm, .. } => Some((nm[0], nm[nm.len() - 1])),
+            Curve::Irregular { nm, .. } => {
+                let nm = nm.nm();
+                Some((nm[0], nm[nm.len() - 1]))
+            }
             Curve::RgbIlluminant { illuminant, .. } => Some(illuminant.range()),
             _ => None,
         }

@@ -6,6 +6,7 @@ pub mod curve;
 pub mod data;
 pub mod gamut;
 pub mod ior;
+pub mod knots;
 pub mod metals;
 pub mod rgb2spec;
 pub mod rgb2spec_fit;
