@@ -160,7 +160,8 @@ pub fn value(
     for (i, hit) in hits.unwrap_or_default().iter().enumerate() {
         if let Some(hit) = hit {
             let (x, y) = (i as u32 % w, i as u32 / w);
-            let k = hit.shape as usize;
+            // The object of the shape (a one-object glTF's parts share one).
+            let k = job.objects.of_shape[hit.shape as usize];
             let b = &mut boxes[k];
             *b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
             pixels[k] += 1;
