@@ -225,11 +225,12 @@ pub fn value(
         .map(|a| {
             json!({
                 "name": a.name(),
-                "channels": a.channels().iter().map(|c| format!("{}.{c}", a.name()))
-                    .chain(c.sensor.bands().filter(|_| matches!(a, crate::film::Aov::Stderr | crate::film::Aov::Albedo)).into_iter().flat_map(|b| {
-                        (0..b.count).map(move |k| format!("{}.{}", a.name(), c.sensor.band_name(k)))
-                    }))
-                    .collect::<Vec<_>>(),
+                // Every sensor's, as `pipeline::add_layers` writes them.
+                "channels": match a {
+                    crate::film::Aov::Stderr => c.sensor.stderr_names(),
+                    crate::film::Aov::Albedo => c.sensor.albedo_names(),
+                    _ => a.channels().iter().map(|c| format!("{}.{c}", a.name())).collect(),
+                },
                 "type": if a.is_id() { "uint32" } else { "float32" },
                 "meaning": a.description(),
             })
