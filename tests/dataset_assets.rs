@@ -287,3 +287,26 @@ fn a_broken_gltf_asset_is_refused_at_check() {
     );
     assert!(!out.exists(), "the output folder was made");
 }
+
+/// One listing serves asset and texture folders (src/dataset/files.rs): only the named
+/// extensions (any case; a folder named like a file is skipped), sorted by name; an empty or
+/// missing folder is an error naming it, with a hint.
+#[test]
+fn folders_are_listed_sorted_by_extension() {
+    use prism::dataset::files::list_files;
+    use prism::error::InputError;
+    let dir = workdir("list-files");
+    std::fs::create_dir_all(dir.join("sub.obj")).unwrap();
+    for n in ["b.OBJ", "a.ply", "c.txt", "d.gltf"] {
+        std::fs::write(dir.join(n), "x").unwrap();
+    }
+    let err = |m: String| InputError::new(Path::new("d.ron"), m);
+    let got = list_files(&dir, &["obj", "ply"], "OBJ or PLY", err).unwrap();
+    let names: Vec<&str> = got.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["a.ply", "b.OBJ"]);
+    let none = list_files(&dir, &["exr"], "EXR", err).unwrap_err();
+    assert!(none.message.contains("holds no EXR file"), "{none}");
+    assert!(none.hint.is_some());
+    let gone = list_files(&dir.join("gone"), &["exr"], "EXR", err).unwrap_err();
+    assert!(gone.message.contains("cannot list"), "{gone}");
+}

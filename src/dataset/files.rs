@@ -43,29 +43,3 @@ pub fn list_files(
     }
     Ok(files)
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Only the named extensions (any case), sorted by name; an empty or missing folder is an
-    /// error that names it.
-    #[test]
-    fn lists_matching_files_sorted() {
-        let dir = std::env::temp_dir().join(format!("prism-list-files-{}", std::process::id()));
-        std::fs::create_dir_all(dir.join("sub.obj")).unwrap();
-        for n in ["b.OBJ", "a.ply", "c.txt", "d.gltf"] {
-            std::fs::write(dir.join(n), "x").unwrap();
-        }
-        let err = |m: String| InputError::new(Path::new("d.ron"), m);
-        let got = list_files(&dir, &["obj", "ply"], "OBJ or PLY", err).unwrap();
-        let names: Vec<&str> = got.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["a.ply", "b.OBJ"]);
-        let none = list_files(&dir, &["exr"], "EXR", err).unwrap_err();
-        assert!(none.message.contains("holds no EXR file"), "{none}");
-        assert!(none.hint.is_some());
-        let gone = list_files(&dir.join("gone"), &["exr"], "EXR", err).unwrap_err();
-        assert!(gone.message.contains("cannot list"), "{gone}");
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-}
