@@ -204,7 +204,8 @@ const MIXED: &str =
 /// (all parts, after their node transforms) is `size` (to 1e-5 relative: f32 bounds);
 /// `dataset.json` and every frame list it once, with the same instance id; every pixel of its
 /// class carries that one instance id, and those pixels show several of its own materials
-/// (so the mask covers several parts, not one).
+/// (so the mask covers several parts, not one); `prism render` of a frame's `--export-frame`
+/// gives its id layers and objects exactly.
 #[test]
 fn a_gltf_asset_is_one_object_with_its_own_materials() {
     let dir = workdir("assets-gltf");
@@ -271,6 +272,26 @@ fn a_gltf_asset_is_one_object_with_its_own_materials() {
         materials.len() >= 2,
         "the model's pixels show materials {materials:?}"
     );
+    // The frame's exported scene keeps the model one object: `prism render` of it gives the
+    // frame's layers and objects exactly.
+    ok(&dataset(&cfg, &out, &["--export-frame", "1"]));
+    let exr = dir.join("again.exr");
+    let scene = out.join("frames/000001.ron");
+    ok(&prism()
+        .args(["render", "-q", "-o"])
+        .arg(&exr)
+        .arg(&scene)
+        .output()
+        .unwrap());
+    let (a, b) = (exr_pixels(&exr), exr_pixels(&out.join("frames/000001.exr")));
+    for k in ["instance.ID", "label.ID", "material.ID"] {
+        assert_eq!(a[k], b[k], "{k}");
+    }
+    let (ja, jb) = (
+        json_file(&dir.join("again.json")),
+        json_file(&out.join("frames/000001.json")),
+    );
+    assert_eq!(ja["objects"], jb["objects"]);
 }
 
 /// A broken glTF in the folder is refused at `--check`: exit 2, the field and the file named.
