@@ -182,3 +182,152 @@ fn class_patterns_match_whole_file_names() {
     assert!(!matches("mug", "mug_01.obj"));
     assert!(matches("*.obj", ".obj"));
 }
+
+/// `dir/models`: prism.obj as "mug_a.obj" and the multi-part OrientationTest.gltf (13 meshes
+/// under 13 nodes, 7 materials; tests/data/gltf/README.md) as "compass.gltf".
+fn mixed_folder(dir: &Path) {
+    let a = dir.join("models");
+    std::fs::create_dir_all(&a).unwrap();
+    std::fs::copy(root().join("scenes/meshes/prism.obj"), a.join("mug_a.obj")).unwrap();
+    std::fs::copy(
+        root().join("tests/data/gltf/OrientationTest.gltf"),
+        a.join("compass.gltf"),
+    )
+    .unwrap();
+    std::fs::write(dir.join("classes.csv"), "mug_*.obj,mug\n*.gltf,model\n").unwrap();
+}
+
+const MIXED: &str =
+    "folder: \"models\", classes: \"classes.csv\", material: \"plastic\", size: 0.5, shown: (2, 2)";
+
+/// A folder with an OBJ and a multi-part glTF: the glTF is ONE object. Its box's longest side
+/// (all parts, after their node transforms) is `size` (to 1e-5 relative: f32 bounds);
+/// `dataset.json` and every frame list it once, with the same instance id; every pixel of its
+/// class carries that one instance id, and those pixels show several of its own materials
+/// (so the mask covers several parts, not one); `prism render` of a frame's `--export-frame`
+/// gives its id layers and objects exactly.
+#[test]
+fn a_gltf_asset_is_one_object_with_its_own_materials() {
+    let dir = workdir("assets-gltf");
+    mixed_folder(&dir);
+    let cfg = config(&dir, |t| {
+        with_assets(MIXED)(t)
+            .replace(
+                "aovs: [\"instance\", \"label\"]",
+                "aovs: [\"instance\", \"label\", \"material\"]",
+            )
+            .replace("resolution: (64, 48)", "resolution: (96, 72)")
+    });
+    let base = prism::dataset::Base::load(&cfg).unwrap();
+    let (lo, hi) = base.bounds[base.names["asset:compass.gltf"]];
+    let side = (hi - lo).max_element();
+    assert!((side / 0.5 - 1.0).abs() < 1e-5, "longest side {side}");
+    let out = dir.join("out");
+    ok(&dataset(&cfg, &out, &["--frames", "0..3"]));
+    let ds = json_file(&out.join("dataset.json"));
+    let model = ds["classes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "model")
+        .unwrap()["id"]
+        .as_u64()
+        .unwrap();
+    let listed: Vec<&serde_json::Value> = ds["instances"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|x| x["name"].as_str().unwrap().contains("compass"))
+        .collect();
+    assert_eq!(listed.len(), 1, "{listed:?}");
+    assert_eq!(listed[0]["name"], "asset:compass.gltf");
+    assert_eq!(listed[0]["label_id"].as_u64(), Some(model));
+    let id = listed[0]["id"].as_u64().unwrap();
+    let mut materials = std::collections::BTreeSet::new();
+    for i in 0..3 {
+        let f = json_file(&out.join(format!("frames/{i:06}.json")));
+        let mine: Vec<&serde_json::Value> = f["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|o| o["name"].as_str().unwrap().contains("compass"))
+            .collect();
+        assert_eq!(mine.len(), 1, "frame {i}: {mine:?}");
+        assert_eq!(mine[0]["instance_id"].as_u64(), Some(id), "frame {i}");
+        let px = exr_pixels(&out.join(format!("frames/{i:06}.exr")));
+        for ((l, n), m) in px["label.ID"]
+            .iter()
+            .zip(&px["instance.ID"])
+            .zip(&px["material.ID"])
+        {
+            if *l == model as f32 {
+                assert_eq!(*n, id as f32, "frame {i}: a part with its own instance id");
+                materials.insert(*m as u32);
+            } else {
+                assert_ne!(*n, id as f32, "frame {i}: the model's id off its class");
+            }
+        }
+    }
+    assert!(
+        materials.len() >= 2,
+        "the model's pixels show materials {materials:?}"
+    );
+    // The frame's exported scene keeps the model one object: `prism render` of it gives the
+    // frame's layers and objects exactly.
+    ok(&dataset(&cfg, &out, &["--export-frame", "1"]));
+    let exr = dir.join("again.exr");
+    let scene = out.join("frames/000001.ron");
+    ok(&prism()
+        .args(["render", "-q", "-o"])
+        .arg(&exr)
+        .arg(&scene)
+        .output()
+        .unwrap());
+    let (a, b) = (exr_pixels(&exr), exr_pixels(&out.join("frames/000001.exr")));
+    for k in ["instance.ID", "label.ID", "material.ID"] {
+        assert_eq!(a[k], b[k], "{k}");
+    }
+    let (ja, jb) = (
+        json_file(&dir.join("again.json")),
+        json_file(&out.join("frames/000001.json")),
+    );
+    assert_eq!(ja["objects"], jb["objects"]);
+}
+
+/// A broken glTF in the folder is refused at `--check`: exit 2, the field and the file named.
+#[test]
+fn a_broken_gltf_asset_is_refused_at_check() {
+    let dir = workdir("assets-gltf-bad");
+    mixed_folder(&dir);
+    std::fs::write(dir.join("models/broken.gltf"), "{ \"asset\": ").unwrap();
+    let cfg = config(&dir, with_assets(MIXED));
+    let out = dir.join("out");
+    refused(
+        &dataset(&cfg, &out, &["--check"]),
+        &["objects.assets.folder", "broken.gltf"],
+    );
+    assert!(!out.exists(), "the output folder was made");
+}
+
+/// One listing serves asset and texture folders (src/dataset/files.rs): only the named
+/// extensions (any case; a folder named like a file is skipped), sorted by name; an empty or
+/// missing folder is an error naming it, with a hint.
+#[test]
+fn folders_are_listed_sorted_by_extension() {
+    use prism::dataset::files::list_files;
+    use prism::error::InputError;
+    let dir = workdir("list-files");
+    std::fs::create_dir_all(dir.join("sub.obj")).unwrap();
+    for n in ["b.OBJ", "a.ply", "c.txt", "d.gltf"] {
+        std::fs::write(dir.join(n), "x").unwrap();
+    }
+    let err = |m: String| InputError::new(Path::new("d.ron"), m);
+    let got = list_files(&dir, &["obj", "ply"], "OBJ or PLY", err).unwrap();
+    let names: Vec<&str> = got.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["a.ply", "b.OBJ"]);
+    let none = list_files(&dir, &["exr"], "EXR", err).unwrap_err();
+    assert!(none.message.contains("holds no EXR file"), "{none}");
+    assert!(none.hint.is_some());
+    let gone = list_files(&dir.join("gone"), &["exr"], "EXR", err).unwrap_err();
+    assert!(gone.message.contains("cannot list"), "{gone}");
+}

@@ -108,7 +108,7 @@ fn bad_texture_folders_are_refused_at_check() {
         ),
         (
             "(target: \"paint\", folder: \"empty\")",
-            &["textures[0].folder", "no image file"],
+            &["textures[0].folder", "no PNG, JPEG, EXR or HDR image file"],
         ),
         (
             "(target: \"paint\", folder: \"broken\")",

@@ -34,6 +34,11 @@ pub struct ShapeConfig {
     /// from the base scene, so an object keeps its id in frames where others are hidden.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub id: Option<u32>,
+    /// A glTF shape's parts are one object: one instance id (`id`, else 1 + the index of its
+    /// first built shape), the shape's name and label, one sidecar entry (its box the union of
+    /// its parts'). `prism dataset` sets it for the glTF models of an asset folder.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub one_object: bool,
 }
 
 /// The geometry of a shape, before `to_world`.

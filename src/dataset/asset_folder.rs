@@ -1,9 +1,13 @@
 //! `objects: (assets: (folder: "assets", classes: "classes.csv", material: "plastic", size: 0.3,
-//! shown: (1, 3)))`: objects drawn per frame from a folder of OBJ/PLY meshes.
+//! shown: (1, 3)))`: objects drawn per frame from a folder of OBJ/PLY meshes and glTF models.
 //!
-//! Every mesh of the folder (sorted by name) joins the base scene as a shape named
+//! Every file of the folder (sorted by name) joins the base scene as a shape named
 //! `asset:<file name>`, labelled with the class of the first line of `classes` whose pattern
 //! matches its file name, scaled about the origin so its bounding box's longest side is `size`.
+//! A mesh takes `material`; a glTF model (`.gltf`, `.glb`) keeps its own materials and, however
+//! many meshes, nodes and materials it has, is one object (`one_object`): one class, one
+//! instance id, placed and scaled as a whole. Its punctual lights are left out (an asset is an
+//! object, not a light rig).
 //! So its instance id and its class id are fixed per dataset in `dataset.json`, as the base
 //! scene's are; each frame shows a uniform number in `shown` of them (a uniform subset; the rest
 //! are hidden, keeping their ids) and stands them on the support with the `objects.place` code.
@@ -21,12 +25,17 @@ use glam::Vec3;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
-/// One mesh of the folder: its shape name, absolute path and class.
+/// The extensions of the files an asset folder takes (lower case).
+pub const EXTENSIONS: [&str; 4] = ["obj", "ply", "gltf", "glb"];
+
+/// One file of the folder: its shape name, absolute path and class.
 #[derive(Clone, Debug)]
 pub struct Asset {
     pub name: String,
     pub path: PathBuf,
     pub class: String,
+    /// A glTF model (one object of many parts), else an OBJ or PLY mesh.
+    pub gltf: bool,
 }
 
 /// The folder's meshes with their classes, checked (folder, mapping file, every file matched).
@@ -82,34 +91,9 @@ pub fn list(config: &DatasetConfig, file: &Path) -> Result<Vec<Asset>, InputErro
         rules.push((p.trim().to_string(), c.trim().to_string()));
     }
     let folder = dir.join(&a.folder);
-    let entries = std::fs::read_dir(&folder).map_err(|e| {
-        err("folder", format!("cannot list `{}`: {e}", folder.display()))
-            .hint("give a folder of OBJ or PLY files, relative to the dataset config")
+    let files = super::files::list_files(&folder, &EXTENSIONS, "OBJ, PLY or glTF", |m| {
+        err("folder", m)
     })?;
-    let mut files: Vec<(String, PathBuf)> = Vec::new();
-    for e in entries.flatten() {
-        let p = e.path();
-        let ext = p
-            .extension()
-            .and_then(|x| x.to_str())
-            .map(str::to_ascii_lowercase);
-        if p.is_file() && matches!(ext.as_deref(), Some("obj" | "ply")) {
-            let name = p
-                .file_name()
-                .expect("a listed file")
-                .to_string_lossy()
-                .into_owned();
-            files.push((name, p));
-        }
-    }
-    files.sort();
-    if files.is_empty() {
-        return Err(err(
-            "folder",
-            format!("`{}` holds no OBJ or PLY file", folder.display()),
-        )
-        .hint("give a folder of OBJ or PLY files (convert glTF models to OBJ or PLY)"));
-    }
     let mut out = Vec::new();
     for (name, p) in files {
         let Some((_, class)) = rules.iter().find(|(pat, _)| matches(pat, &name)) else {
@@ -121,17 +105,31 @@ pub fn list(config: &DatasetConfig, file: &Path) -> Result<Vec<Asset>, InputErro
                 "add a pattern for it, or a last line `*,other` for every file not matched before",
             ));
         };
+        let path = std::path::absolute(&p).unwrap_or(p);
+        let gltf = crate::load::gltf::is_gltf(&path);
+        if gltf {
+            // Checked here, so a broken model is refused naming the folder's file and the
+            // field (the base scene's build would name a shape the user never wrote).
+            crate::load::gltf::open(&path).map_err(|e| {
+                err("folder", format!("`{name}`: {}", e.message)).hint(format!(
+                    "{}; or remove the file from the folder",
+                    e.hint
+                        .unwrap_or_else(|| "re-export the model as glTF 2.0".into())
+                ))
+            })?;
+        }
         out.push(Asset {
             name: format!("asset:{name}"),
-            path: std::path::absolute(&p).unwrap_or(p),
+            path,
             class: class.clone(),
+            gltf,
         });
     }
     if a.shown.0 > a.shown.1 || a.shown.1 as usize > out.len() {
         return Err(err(
             "shown",
             format!(
-                "shown ({}, {}) must lie in 0..={} (the folder's meshes), lo ≤ hi",
+                "shown ({}, {}) must lie in 0..={} (the folder's files), lo ≤ hi",
                 a.shown.0,
                 a.shown.1,
                 out.len()
@@ -170,11 +168,22 @@ pub fn matches(pattern: &str, name: &str) -> bool {
 pub fn append(assets: &[Asset], material: Option<&AssetFolder>, scene: &mut SceneConfig) {
     let Some(a) = material else { return };
     for x in assets {
+        let path = x.path.to_string_lossy().into_owned();
+        let shape = if x.gltf {
+            ShapeKind::Gltf {
+                path,
+                materials: Default::default(),
+                lights: false,
+                allow_outside: false,
+                animation: None,
+            }
+        } else {
+            ShapeKind::Mesh { path }
+        };
         scene.shapes.push(ShapeConfig {
-            shape: ShapeKind::Mesh {
-                path: x.path.to_string_lossy().into_owned(),
-            },
-            material: Some(a.material.clone()),
+            shape,
+            // A model keeps its own materials; `material` would replace them all.
+            material: (!x.gltf).then(|| a.material.clone()),
             emitter: None,
             to_world: Vec::new(),
             animation: None,
@@ -182,12 +191,14 @@ pub fn append(assets: &[Asset], material: Option<&AssetFolder>, scene: &mut Scen
             name: Some(x.name.clone()),
             label: Some(x.class.clone()),
             id: None,
+            one_object: x.gltf,
         });
     }
 }
 
 /// Scales each asset (the last `assets.len()` shapes) about the origin so its box's longest
-/// side is `size`, and its bounds with it.
+/// side is `size`, and its bounds with it (a glTF model's box: all its parts', after its node
+/// transforms, which `to_world` follows).
 pub fn normalise(
     assets: &[Asset],
     size: f32,

@@ -20,7 +20,8 @@ pub struct Base {
     /// The base scene file and its parsed config.
     pub scene_file: PathBuf,
     pub scene: SceneConfig,
-    /// World bounds of each shape of the base scene (min, max).
+    /// World bounds of each shape of the base scene's config (min, max; a glTF shape's: all
+    /// its parts').
     pub bounds: Vec<(Vec3, Vec3)>,
     /// Shape index by name.
     pub names: BTreeMap<String, usize>,
@@ -44,7 +45,8 @@ pub struct Base {
     pub sheet_layers: Vec<crate::film::Aov>,
     /// Each texture variation's image files (src/dataset/textures.rs).
     pub textures: super::textures::Listed,
-    /// The asset folder's meshes, the last shapes of `scene` (src/dataset/asset_folder.rs).
+    /// The asset folder's meshes and models, the last shapes of `scene`
+    /// (src/dataset/asset_folder.rs).
     pub assets: Vec<super::asset_folder::Asset>,
 }
 
@@ -103,7 +105,13 @@ impl Base {
             Ok((scene, job))
         });
         let (mut scene, mut job) = loaded?;
-        let mut bounds: Vec<_> = job.scene.shapes.iter().map(shape_bounds).collect();
+        // By config shape: a glTF shape builds several (the union of its parts' boxes).
+        let mut bounds = vec![(Vec3::INFINITY, Vec3::NEG_INFINITY); scene.shapes.len()];
+        for (j, s) in job.scene.shapes.iter().enumerate() {
+            let i = job.objects.list[job.objects.of_shape[j]].shape;
+            let (lo, hi) = shape_bounds(s);
+            bounds[i] = (bounds[i].0.min(lo), bounds[i].1.max(hi));
+        }
         if let Some(a) = &config.objects.assets {
             super::asset_folder::normalise(&assets, a.size, &mut scene, &mut bounds);
         }

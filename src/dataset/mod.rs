@@ -13,6 +13,7 @@ pub mod cli;
 pub mod config;
 pub mod digits;
 pub mod export;
+pub mod files;
 pub mod frame;
 pub mod illuminant_files;
 pub mod intrinsics;

@@ -51,30 +51,17 @@ pub fn load(base: &Base) -> Result<Listed, InputError> {
         }
         let folder = dir.join(&t.folder);
         let f = format!("{field}.folder");
-        let hint = "give a folder of PNG, JPEG, EXR or HDR images, relative to the dataset config";
-        let entries = std::fs::read_dir(&folder).map_err(|e| {
-            base.err(&f, format!("cannot list `{}`: {e}", folder.display()))
-                .hint(hint)
-        })?;
-        let mut files: Vec<(String, PathBuf)> = Vec::new();
-        for e in entries.flatten() {
-            let p = e.path();
-            let ext = p
-                .extension()
-                .and_then(|x| x.to_str())
-                .map(str::to_ascii_lowercase);
-            if p.is_file() && ext.is_some_and(|x| EXTENSIONS.contains(&x.as_str())) {
-                let name = p.file_name().expect("a listed file").to_string_lossy();
-                let shown = Path::new(&t.folder).join(&*name);
-                files.push((shown.to_string_lossy().into_owned(), p));
-            }
-        }
-        files.sort();
-        if files.is_empty() {
-            return Err(base
-                .err(&f, format!("`{}` holds no image file", folder.display()))
-                .hint(hint));
-        }
+        let listed =
+            super::files::list_files(&folder, &EXTENSIONS, "PNG, JPEG, EXR or HDR image", |m| {
+                base.err(&f, m)
+            })?;
+        let files: Vec<(String, PathBuf)> = listed
+            .into_iter()
+            .map(|(name, p)| {
+                let shown = Path::new(&t.folder).join(name);
+                (shown.to_string_lossy().into_owned(), p)
+            })
+            .collect();
         for (j, (name, p)) in files.iter().enumerate() {
             header(p).map_err(|e| {
                 base.err(&f, format!("image {j} `{name}`: {e}"))

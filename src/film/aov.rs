@@ -148,9 +148,12 @@ impl Aov {
             Aov::Uv => &["U", "V"],
             Aov::Instance | Aov::Label | Aov::Material => &["ID"],
             Aov::Alpha => &["A"],
-            // And one per spectral band, named as the band (`stderr.S0.550,000000nm`).
+            // And one per band and response channel, named as the channel
+            // (`stderr.S0.550,000000nm`, `stderr.camera.R`), and each extra sensor's
+            // (`nikon.stderr.camera.R`): `Sensor::stderr_names`.
             Aov::Stderr => &["Y"],
-            // And one per band, as for `stderr` (`albedo.S0.550,000000nm`).
+            // And one per band (`albedo.S0.550,000000nm`), and each extra sensor's bands
+            // (`hsi.albedo.S0.550,000000nm`): `Sensor::albedo_names`.
             Aov::Albedo => &["R", "G", "B"],
             Aov::Spp => &["N"],
         }
@@ -176,7 +179,7 @@ impl Aov {
             Aov::Label => "id of the shape's label (labels; 0: none or unlabelled)",
             Aov::Material => "1 + index of the shape's material (materials; 0: none)",
             Aov::Alpha => "fraction of the pixel's camera samples that hit a surface (filtered like radiance)",
-            Aov::Stderr => "standard error of the pixel's Y and of each band (stderr.S0.<λ>nm) from the spread of its camera samples: sqrt(sample variance / spp)",
+            Aov::Stderr => "standard error of the pixel's Y, each band (stderr.S0.<λ>nm), response channel and camera.R/G/B, for every sensor (an extra sensor's: <name>.stderr.*), from the spread of its camera samples' own values of that channel: sqrt(sample variance / spp); the RGB spaces and corrected.* have none",
             Aov::Spp => "camera samples the pixel's estimate averaged (sampler.spp; adaptive sampling: the pixel's own count, its pilot batch not counted)",
             Aov::Flow(d) => match d {
                 Dir::Forward => "optical flow to the frame 1/fps later, pixels, OpenCV image axes (x right, y down): the surface point seen through this pixel's centre is seen there at centre + flow (0: none)",
@@ -185,7 +188,7 @@ impl Aov {
             Aov::FlowOcclusion(_) => "1 where the pixel's surface point is hidden at the flow's other frame, leaves its image, or there is no surface; 0 where it is seen there",
             Aov::SceneFlow(_) => "displacement of the pixel's surface point to the flow's other frame, world frame: p(t ± 1/fps) − p(t) (scene units; 0: none)",
             Aov::SceneFlowCamera(_) => "displacement of the pixel's surface point in OpenCV camera frames, each time's own camera: (R'·p' + t') − (R·p + t) (scene units; 0: none)",
-            Aov::Albedo => "diffuse reflectance of the material at the pixel-centre hit (textures at its uv): R/G/B linear sRGB under D65 (constant rho gives R=G=B=rho), and each band's mean (albedo.S0.<λ>nm); conductors and dielectrics 0; 0: none",
+            Aov::Albedo => "diffuse reflectance of the material at the pixel-centre hit (textures at its uv): R/G/B linear sRGB under D65 (constant rho gives R=G=B=rho), and each band's mean (albedo.S0.<λ>nm; an extra sensor's bands: <name>.albedo.S0.<λ>nm); conductors and dielectrics 0; 0: none",
         }
     }
 

@@ -47,8 +47,15 @@ fn band_mean(lo: f32, hi: f32, f: impl Fn(f32) -> f32) -> f32 {
         / n as f64) as f32
 }
 
-/// `albedo.R/G/B` and, with `bands`, one `albedo.<band>` per band, from the pixel-centre hits.
-pub fn layers(scene: &Scene, hits: &[Option<Hit>], sensor: &crate::sensor::Sensor) -> Vec<Channel> {
+/// `albedo.R/G/B` (with `rgb`) and, with `bands`, one `albedo.<band>` per band, from the
+/// pixel-centre hits. R/G/B does not depend on the sensor: an extra sensor's layer is its
+/// bands alone (`pipeline::add_layers`).
+pub fn layers(
+    scene: &Scene,
+    hits: &[Option<Hit>],
+    sensor: &crate::sensor::Sensor,
+    rgb: bool,
+) -> Vec<Channel> {
     let bands = sensor.bands();
     let weights = xyz_weights();
     let nb = bands.map_or(0, |b| b.count as usize);
@@ -60,13 +67,15 @@ pub fn layers(scene: &Scene, hits: &[Option<Hit>], sensor: &crate::sensor::Senso
             let Some(h) = h else { return v };
             let m = &scene.materials[scene.shape_material[h.shape as usize] as usize];
             let f = |l: f32| m.diffuse_reflectance(h.tex, h.front, l);
-            let mut xyz = [0.0f64; 3];
-            for (l, w) in &weights {
-                let r = f(*l) as f64;
-                (0..3).for_each(|c| xyz[c] += w[c] * r);
+            if rgb {
+                let mut xyz = [0.0f64; 3];
+                for (l, w) in &weights {
+                    let r = f(*l) as f64;
+                    (0..3).for_each(|c| xyz[c] += w[c] * r);
+                }
+                let c = color::xyz_to_srgb(Vec3::new(xyz[0] as f32, xyz[1] as f32, xyz[2] as f32));
+                v[..3].copy_from_slice(&c.to_array());
             }
-            let rgb = color::xyz_to_srgb(Vec3::new(xyz[0] as f32, xyz[1] as f32, xyz[2] as f32));
-            v[..3].copy_from_slice(&rgb.to_array());
             if let Some(b) = bands {
                 for k in 0..b.count {
                     let l0 = b.lo + k as f32 * b.width();
@@ -83,6 +92,7 @@ pub fn layers(scene: &Scene, hits: &[Option<Hit>], sensor: &crate::sensor::Senso
     names
         .into_iter()
         .enumerate()
+        .skip(if rgb { 0 } else { 3 })
         .map(|(c, name)| Channel {
             name,
             data: per_pixel.iter().map(|v| v[c]).collect(),

@@ -18,25 +18,6 @@ pub fn uses_hits(aov: Aov) -> bool {
     !matches!(aov, Aov::Alpha | Aov::Stderr | Aov::Spp)
 }
 
-/// `stderr.Y` and one `stderr.<band>` per band, from per-pixel slot standard errors.
-pub fn stderr_layers(se: &[f32], channels: &crate::sensor::FilmChannels) -> Vec<Channel> {
-    let slots = channels.sensor.slots();
-    let pick = |slot: usize| se.iter().skip(slot).step_by(slots).copied().collect();
-    let mut out = vec![Channel {
-        name: "stderr.Y".into(),
-        data: pick(1),
-    }];
-    if let Some(b) = channels.sensor.bands() {
-        for k in 0..b.count {
-            out.push(Channel {
-                name: format!("stderr.{}", channels.sensor.band_name(k)),
-                data: pick(crate::sensor::XYZ_SLOTS + k as usize),
-            });
-        }
-    }
-    out
-}
-
 /// The surface a pixel-centre ray meets.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {

@@ -32,7 +32,10 @@ pub struct Object {
 
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Objects {
+    /// One per built shape, except that a `one_object` glTF shape's parts are one object.
     pub list: Vec<Object>,
+    /// The index in `list` of each built shape's object.
+    pub of_shape: Vec<usize>,
     /// Distinct labels, sorted.
     pub labels: Vec<String>,
     /// Material names in scene order (a shape without a material gets "(default)").
@@ -40,20 +43,28 @@ pub struct Objects {
 }
 
 impl Objects {
-    /// Label id of each shape (for the `label` layer).
+    /// Label id of each built shape (for the `label` layer).
     pub fn label_ids(&self) -> Vec<u32> {
-        self.list.iter().map(|o| o.label_id).collect()
+        self.of_shape
+            .iter()
+            .map(|&k| self.list[k].label_id)
+            .collect()
     }
 
-    /// Instance id of each shape (for the `instance` layer).
+    /// Instance id of each built shape (for the `instance` layer).
     pub fn instance_ids(&self) -> Vec<u32> {
-        self.list.iter().map(|o| o.instance_id).collect()
+        self.of_shape
+            .iter()
+            .map(|&k| self.list[k].instance_id)
+            .collect()
     }
 }
 
-/// The scene's objects, one per built shape. `source[j]` is the config shape that built shape
-/// `j` (a `Gltf` shape builds one per mesh primitive under its nodes), `material_names` the
-/// name of each of the scene's materials.
+/// The scene's objects, one per built shape (a `one_object` glTF shape's parts: one in all,
+/// named as the shape, with its `to_world`, its parts' union box and its first part's
+/// material). `source[j]` is the config shape that built shape `j` (a `Gltf` shape builds one
+/// per mesh primitive under its nodes), `material_names` the name of each of the scene's
+/// materials.
 pub fn objects(
     cfg: &SceneConfig,
     scene: &Scene,
@@ -71,7 +82,7 @@ pub fn objects(
     // Names the scene gives first: a repeat among them is the user's to fix.
     let mut seen: BTreeMap<String, usize> = BTreeMap::new();
     for (i, sc) in cfg.shapes.iter().enumerate() {
-        if matches!(sc.shape, crate::config::ShapeKind::Gltf { .. }) {
+        if matches!(sc.shape, crate::config::ShapeKind::Gltf { .. }) && !sc.one_object {
             continue;
         }
         let name = sc.name.clone().unwrap_or_else(|| format!("shape{i}"));
@@ -85,17 +96,38 @@ pub fn objects(
         }
     }
     let mut taken: std::collections::BTreeSet<String> = seen.into_keys().collect();
-    let mut list = Vec::with_capacity(scene.shapes.len());
+    let mut list: Vec<Object> = Vec::with_capacity(scene.shapes.len());
+    let mut of_shape = Vec::with_capacity(scene.shapes.len());
     let (mut ids, mut part) = (BTreeMap::new(), 0u32);
     for (j, shape) in scene.shapes.iter().enumerate() {
         let i = source[j];
         let sc = &cfg.shapes[i];
+        let gltf = matches!(sc.shape, crate::config::ShapeKind::Gltf { .. });
         let field = format!("shapes[{i}].to_world");
         let mut to_world = geometry::transform(&sc.to_world, file, &field)?.m;
-        let name = match (
-            &scene.shape_name[j],
-            matches!(sc.shape, crate::config::ShapeKind::Gltf { .. }),
-        ) {
+        let bounds = match shape {
+            // Its vertices' bounds: the same box, without transforming each triangle.
+            crate::shape::Shape::Instance(inst) => {
+                if !sc.one_object {
+                    to_world = inst.to_world.m;
+                }
+                inst.bounds()
+            }
+            _ => (0..shape.prim_count())
+                .map(|k| shape.prim_geom(k).bounds())
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
+                    (lo.min(a), hi.max(b))
+                }),
+        };
+        let next = j > 0 && source[j - 1] == i;
+        if gltf && sc.one_object && next {
+            // A further part of one object: it widens the object's box.
+            let o = list.last_mut().expect("the shape's first part is listed");
+            o.bounds = (o.bounds.0.min(bounds.0), o.bounds.1.max(bounds.1));
+            of_shape.push(list.len() - 1);
+            continue;
+        }
+        let name = match (&scene.shape_name[j], gltf && !sc.one_object) {
             // A glTF part: its node's name, under the shape's own name if it has one; node
             // names need not be unique (nor are a node's primitives), so repeats get #2, #3, ….
             (part, true) => {
@@ -115,25 +147,9 @@ pub fn objects(
             }
             (_, false) => sc.name.clone().unwrap_or_else(|| format!("shape{i}")),
         };
-        let bounds = match shape {
-            // Its vertices' bounds: the same box, without transforming each triangle.
-            crate::shape::Shape::Instance(inst) => {
-                to_world = inst.to_world.m;
-                inst.bounds()
-            }
-            _ => (0..shape.prim_count())
-                .map(|k| shape.prim_geom(k).bounds())
-                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
-                    (lo.min(a), hi.max(b))
-                }),
-        };
         let m = scene.shape_material[j];
         // A given id counts the shape's parts from it.
-        part = if j > 0 && source[j - 1] == i {
-            part + 1
-        } else {
-            0
-        };
+        part = if next { part + 1 } else { 0 };
         let instance_id = match sc.id {
             Some(id) => id.checked_add(part).ok_or_else(|| {
                 InputError::new(file, format!("instance id {id} + part {part} overflows"))
@@ -152,6 +168,7 @@ pub fn objects(
             .hint("instance ids must be unique (a glTF shape's parts take id, id + 1, …; shapes without `id` take 1 + their index)"));
         }
         ids.insert(instance_id, list.len());
+        of_shape.push(list.len());
         list.push(Object {
             instance_id,
             name,
@@ -169,6 +186,7 @@ pub fn objects(
     }
     Ok(Objects {
         list,
+        of_shape,
         labels,
         materials: material_names,
     })

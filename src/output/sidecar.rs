@@ -160,7 +160,8 @@ pub fn value(
     for (i, hit) in hits.unwrap_or_default().iter().enumerate() {
         if let Some(hit) = hit {
             let (x, y) = (i as u32 % w, i as u32 / w);
-            let k = hit.shape as usize;
+            // The object of the shape (a one-object glTF's parts share one).
+            let k = job.objects.of_shape[hit.shape as usize];
             let b = &mut boxes[k];
             *b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
             pixels[k] += 1;
@@ -224,11 +225,12 @@ pub fn value(
         .map(|a| {
             json!({
                 "name": a.name(),
-                "channels": a.channels().iter().map(|c| format!("{}.{c}", a.name()))
-                    .chain(c.sensor.bands().filter(|_| matches!(a, crate::film::Aov::Stderr | crate::film::Aov::Albedo)).into_iter().flat_map(|b| {
-                        (0..b.count).map(move |k| format!("{}.{}", a.name(), c.sensor.band_name(k)))
-                    }))
-                    .collect::<Vec<_>>(),
+                // Every sensor's, as `pipeline::add_layers` writes them.
+                "channels": match a {
+                    crate::film::Aov::Stderr => c.sensor.stderr_names(),
+                    crate::film::Aov::Albedo => c.sensor.albedo_names(),
+                    _ => a.channels().iter().map(|c| format!("{}.{c}", a.name())).collect(),
+                },
                 "type": if a.is_id() { "uint32" } else { "float32" },
                 "meaning": a.description(),
             })

@@ -3,7 +3,7 @@
 
 use crate::film::{Aov, Film};
 use crate::integrator::albedo;
-use crate::integrator::aov::{first_hits, layers, stderr_layers, uses_hits, Hit};
+use crate::integrator::aov::{first_hits, layers, uses_hits, Hit};
 use crate::integrator::PixelErrors;
 use crate::load::Job;
 
@@ -35,13 +35,23 @@ pub fn add_layers(
     );
     film.channels.extend(floats);
     film.uint_channels.extend(ids);
+    let sensor = &job.channels.sensor;
     if let (true, Some(e)) = (job.aovs.contains(&Aov::Stderr), errors) {
-        film.channels
-            .extend(stderr_layers(&e.stderr, &job.channels));
+        // Every sensor's: the extras' slots have their standard errors too.
+        film.channels.extend(sensor.stderr_channels(&e.stderr));
     }
     if job.aovs.contains(&Aov::Albedo) {
         film.channels
-            .extend(albedo::layers(&job.scene, h, &job.channels.sensor));
+            .extend(albedo::layers(&job.scene, h, sensor, true));
+        // An extra sensor's bands (R/G/B is the main sensor's: it does not depend on one).
+        for x in sensor
+            .extras()
+            .iter()
+            .filter(|x| x.sensor.bands().is_some())
+        {
+            let own = albedo::layers(&job.scene, h, &x.sensor, false);
+            film.channels.extend(x.prefixed(own));
+        }
     }
     if let Some(f) = &job.flow {
         film.channels

@@ -53,6 +53,8 @@ pub fn render(job: &Job, exposure_scale: f32, progress: &(dyn Fn(u64) + Sync)) -
         se.stderr.iter_mut().for_each(|v| *v *= exposure_scale);
         if stderr {
             scaled.push("stderr.*".into());
+            let extras = job.channels.sensor.extras().iter();
+            scaled.extend(extras.map(|e| format!("{}.stderr.*", e.name)));
         }
     }
     let hits = add_layers(job, &mut film, Some(&se));

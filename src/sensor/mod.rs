@@ -23,6 +23,7 @@ pub mod names;
 pub mod observer;
 pub mod raw;
 pub mod sampling;
+mod stderr;
 
 pub use bands::{Bands, Response, Shape};
 pub use camera::CameraModel;

@@ -8,7 +8,9 @@
 //! see the very samples, in the same order, that a render with that sensor alone sees, so its
 //! channels equal that render's bit for bit (tests/sensor_multi.rs). `sampling: Sensor` draws
 //! from the mean of every sensor's density instead, so the channels then agree in expectation
-//! only. The main sensor alone drives `stderr`, `albedo`, adaptive sampling and the preview.
+//! only. Each sensor has its `stderr` channels (stderr.rs: `<name>.stderr.<channel>`) and an
+//! extra sensor with bands its `albedo` bands (`<name>.albedo.<band>`); the main sensor alone
+//! drives adaptive sampling and the preview.
 
 use super::Sensor;
 use crate::film::{Channel, UintChannel};
@@ -22,6 +24,17 @@ pub struct Extra {
     pub sensor: Sensor,
     /// Its first slot (after the main sensor's and earlier extras' slots).
     pub offset: usize,
+}
+
+impl Extra {
+    /// `channels` named as this sensor's: `<name>.<channel>`.
+    pub fn prefixed(&self, channels: Vec<Channel>) -> Vec<Channel> {
+        let named = channels.into_iter().map(|c| Channel {
+            name: format!("{}.{}", self.name, c.name),
+            data: c.data,
+        });
+        named.collect()
+    }
 }
 
 impl Sensor {
@@ -77,10 +90,7 @@ impl Sensor {
         let mut out = Vec::new();
         for e in &self.extras {
             let (channels, _) = e.sensor.channels(&self.extra_means(e, means, n), n);
-            out.extend(channels.into_iter().map(|c| Channel {
-                name: format!("{}.{}", e.name, c.name),
-                data: c.data,
-            }));
+            out.extend(e.prefixed(channels));
         }
         out
     }
@@ -103,6 +113,28 @@ impl Sensor {
                 c.name = format!("{}.{}", e.name, c.name);
                 out.push(c);
             }
+        }
+        out
+    }
+
+    /// The channels of the `albedo` layer (`pipeline::add_layers`): `albedo.R/G/B`, one
+    /// `albedo.<band>` per band of this sensor, then each extra sensor's bands,
+    /// `<name>.albedo.<band>`.
+    pub fn albedo_names(&self) -> Vec<String> {
+        let bands = |s: &Sensor| -> Vec<String> {
+            let b = s.bands().map_or(0, |b| b.count);
+            (0..b)
+                .map(|k| format!("albedo.{}", s.band_name(k)))
+                .collect()
+        };
+        let mut out: Vec<String> = ["R", "G", "B"].map(|c| format!("albedo.{c}")).to_vec();
+        out.extend(bands(self));
+        for e in &self.extras {
+            out.extend(
+                bands(&e.sensor)
+                    .into_iter()
+                    .map(|c| format!("{}.{c}", e.name)),
+            );
         }
         out
     }

@@ -232,6 +232,7 @@ pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), Inp
         to_world: Vec::new(),
         animation: None,
         flip_normals: false,
+        one_object: false,
         name: None,
         label: None,
         id: None,
