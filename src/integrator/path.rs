@@ -274,6 +274,9 @@ impl<const N: usize> Path<N> {
         let em = &scene.emitters[e as usize];
         let le = match em {
             Emitter::Area(a) if show && si.ng.dot(-d) > 0.0 => self.le_memo.get(e, a, si.uv, wl),
+            Emitter::MovingArea(m) if show && si.ng.dot(-d) > 0.0 => {
+                self.le_memo.get(e, &m.area, si.uv, wl)
+            }
             _ => Spectrum::zero(),
         };
         if !le.is_zero() {
@@ -347,6 +350,10 @@ impl<const N: usize> Path<N> {
                 Emitter::Area(a) => a
                     .sample_point(si, u_light, &scene.shapes)
                     .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area(a, s.uv))),
+                // A light on a moving shape: its pose at `si.time` (out of line).
+                Emitter::MovingArea(m) => m
+                    .sample_point(si, u_light, &scene.shapes)
+                    .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area(&m.area, s.uv))),
                 Emitter::Envmap(m) => m
                     .sample(u_light)
                     .map(|(wi, pdf)| (wi, si.spawn(wi), pdf, false, Le::Envmap(m))),
