@@ -141,6 +141,21 @@ fn bad_sequence_fields_are_refused() {
             "speed: (0.3, 0.1)",
             vec!["motion.objects[0].speed", "increasing"],
         ),
+        (
+            "spin: (-120, 120))],",
+            "spin: (-120, 120))], lights: [(targets: [\"ball\"])],",
+            vec!["motion.lights[0].targets", "not a light"],
+        ),
+        (
+            "spin: (-120, 120))],",
+            "spin: (-120, 120))], lights: [(targets: [\"lamp\", \"lamp\"])],",
+            vec!["motion.lights[0].targets", "already moves"],
+        ),
+        (
+            "spin: (-120, 120))],",
+            "spin: (-120, 120))], lights: [(targets: [\"lamp\"], orbit: (40, 20))],",
+            vec!["motion.lights[0].orbit", "increasing"],
+        ),
     ]
     .into_iter()
     .enumerate()

@@ -82,13 +82,6 @@ impl Emitter {
     ) -> Option<EmitterSample<N>> {
         match self {
             Emitter::Area(a) => a.sample_li(si, u, wl, shapes),
-            Emitter::MovingArea(m) => m.sample_point(si, u, shapes).map(|s| EmitterSample {
-                wi: s.wi,
-                shadow: s.shadow,
-                radiance: m.area.radiance.eval(s.uv, wl),
-                pdf: s.pdf,
-                delta: false,
-            }),
             _ => self.sample_li_other(si, u, wl),
         }
     }
@@ -102,9 +95,14 @@ impl Emitter {
         wl: &Wavelengths<N>,
     ) -> Option<EmitterSample<N>> {
         match self {
-            Emitter::Area(_) | Emitter::MovingArea(_) => {
-                unreachable!("area lights are sampled by `sample_li`")
-            }
+            Emitter::Area(_) => unreachable!("area lights are sampled by `sample_li`"),
+            Emitter::MovingArea(m) => m.sample_point(si, u).map(|s| EmitterSample {
+                wi: s.wi,
+                shadow: s.shadow,
+                radiance: m.area.radiance.eval(s.uv, wl),
+                pdf: s.pdf,
+                delta: false,
+            }),
             Emitter::Point {
                 position,
                 intensity,

@@ -16,11 +16,15 @@ use crate::shape::Shape;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
 /// An area light on a shape (in object space) moving by `motion` while the shutter is open.
-/// Its own kind, so the still lights' code in the path loop is what it was.
+/// Its own kind, sampled among the other kinds (`Emitter::sample_li_other`), so the path loop's
+/// code for still area lights is what it was (measured: docs/performance.md). It keeps its own
+/// copy of the object-space shape for that, which that call does not receive (a moving light's
+/// shape is small; the scene's copy is the one rays hit).
 #[derive(Clone, Debug)]
 pub struct MovingArea {
     pub area: AreaEmitter,
     pub motion: Motion,
+    pub shape: Shape,
 }
 
 impl MovingArea {
@@ -29,14 +33,8 @@ impl MovingArea {
     /// and the path loop's code for them stays as it was.
     #[cold]
     #[inline(never)]
-    pub fn sample_point(
-        &self,
-        si: &SurfaceInteraction,
-        u: Vec2,
-        shapes: &[Shape],
-    ) -> Option<AreaLightSample> {
-        let a = &self.area;
-        let (s, uv) = a.sample_area_uv(u, &shapes[a.shape as usize]);
+    pub fn sample_point(&self, si: &SurfaceInteraction, u: Vec2) -> Option<AreaLightSample> {
+        let (s, uv) = self.area.sample_area_uv(u, &self.shape);
         let m = self.motion.matrix(si.time);
         let lin = Mat3::from_mat4(m);
         let nw = lin.inverse().transpose() * s.n;
@@ -182,10 +180,10 @@ mod tests {
             flip: false,
         });
         for (is_sphere, shape) in [(true, sphere), (false, disk)] {
-            let shapes = vec![shape.clone()];
             let light = MovingArea {
                 area: AreaEmitter::new(0, &shape, crate::spectrum::Curve::Constant(1.0)),
                 motion: motion(),
+                shape: shape.clone(),
             };
             for time in [0.0, 0.37, 1.0] {
                 let si = receiver(time);
@@ -197,7 +195,7 @@ mod tests {
                         ((k % n) as f32 + 0.5) / n as f32,
                         ((k / n) as f32 + 0.5) / n as f32,
                     );
-                    let Some(s) = light.sample_point(&si, u, &shapes) else {
+                    let Some(s) = light.sample_point(&si, u) else {
                         continue;
                     };
                     solid += 1.0 / s.pdf as f64 / (n * n) as f64;

@@ -243,6 +243,22 @@ impl<const N: usize> LeMemo<N> {
     }
 }
 
+impl<const N: usize> LeMemo<N> {
+    /// `get` out of line and cold, for a light on a moving shape: the inlined code for still
+    /// lights stays as it was (callgrind, docs/performance.md).
+    #[cold]
+    #[inline(never)]
+    fn get_moving(
+        &mut self,
+        e: u32,
+        a: &AreaEmitter,
+        uv: Vec2,
+        wl: &Wavelengths<N>,
+    ) -> Spectrum<N> {
+        self.get(e, a, uv, wl)
+    }
+}
+
 impl<const N: usize> Path<N> {
     /// Adds environment emitter `em`'s radiance along `d` (a ray that left the scene),
     /// MIS-weighted against the BSDF sampling that chose `d`.
@@ -275,7 +291,7 @@ impl<const N: usize> Path<N> {
         let le = match em {
             Emitter::Area(a) if show && si.ng.dot(-d) > 0.0 => self.le_memo.get(e, a, si.uv, wl),
             Emitter::MovingArea(m) if show && si.ng.dot(-d) > 0.0 => {
-                self.le_memo.get(e, &m.area, si.uv, wl)
+                self.le_memo.get_moving(e, &m.area, si.uv, wl)
             }
             _ => Spectrum::zero(),
         };
@@ -350,10 +366,6 @@ impl<const N: usize> Path<N> {
                 Emitter::Area(a) => a
                     .sample_point(si, u_light, &scene.shapes)
                     .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area(a, s.uv))),
-                // A light on a moving shape: its pose at `si.time` (out of line).
-                Emitter::MovingArea(m) => m
-                    .sample_point(si, u_light, &scene.shapes)
-                    .map(|s| (s.wi, s.shadow, s.pdf, false, Le::Area(&m.area, s.uv))),
                 Emitter::Envmap(m) => m
                     .sample(u_light)
                     .map(|(wi, pdf)| (wi, si.spawn(wi), pdf, false, Le::Envmap(m))),

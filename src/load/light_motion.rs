@@ -110,5 +110,6 @@ pub fn area(
     Ok(Some(Emitter::MovingArea(Box::new(MovingArea {
         area: AreaEmitter::with_radiance(index, shape, radiance),
         motion: motion.clone(),
+        shape: shape.clone(),
     }))))
 }

@@ -369,6 +369,7 @@ pub(super) fn add_shapes(
                     crate::emitter::Emitter::MovingArea(Box::new(crate::emitter::MovingArea {
                         area: light,
                         motion: m.clone(),
+                        shape: s.shape.clone(),
                     }))
                 }
                 None => crate::emitter::Emitter::Area(light),
