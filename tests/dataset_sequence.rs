@@ -230,7 +230,7 @@ fn lights_move_along_a_sequence() {
             let d: Vec<f64> = (0..3)
                 .map(|k| l0["direction"][k].as_f64().unwrap())
                 .collect();
-            assert!(w >= 20.0 && w <= 40.0, "{target}: orbit {w}");
+            assert!((20.0..=40.0).contains(&w), "{target}: orbit {w}");
             assert_eq!(
                 v > 0.0,
                 target == "lamp",

@@ -17,7 +17,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3};
 
 /// An area light on a shape (in object space) moving by `motion` while the shutter is open.
 /// Its own kind, sampled among the other kinds (`Emitter::sample_li_other`), so the path loop's
-/// code for still area lights is what it was (measured: docs/performance.md). It keeps its own
+/// code for still area lights is what it was (callgrind, docs/performance.md "Paths in lanes"). It keeps its own
 /// copy of the object-space shape for that, which that call does not receive (a moving light's
 /// shape is small; the scene's copy is the one rays hit).
 #[derive(Clone, Debug)]

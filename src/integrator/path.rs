@@ -245,7 +245,7 @@ impl<const N: usize> LeMemo<N> {
 
 impl<const N: usize> LeMemo<N> {
     /// `get` out of line and cold, for a light on a moving shape: the inlined code for still
-    /// lights stays as it was (callgrind, docs/performance.md).
+    /// lights stays as it was (callgrind, docs/performance.md "Paths in lanes").
     #[cold]
     #[inline(never)]
     fn get_moving(

@@ -36,7 +36,7 @@ pub(super) fn animate(
             .field(field.to_string())
             .hint("list each light once, and not also in motion.objects or with an animation of its own"))
     };
-    let (ops, translate, point, kind) = match base.light(target, field)? {
+    let (ops, translate, point) = match base.light(target, field)? {
         LightRef::Shape(i) => {
             if !shown[i] {
                 return Ok(None);
@@ -51,28 +51,27 @@ pub(super) fn animate(
                 interpolation: Default::default(),
                 keys,
             });
-            (ops, true, None, "area")
+            (ops, true, None)
         }
         LightRef::Emitter(e) => {
             let em = &mut scene.emitters[e];
-            let kind = match em {
-                EmitterConfig::Point { .. } => "point",
-                EmitterConfig::Spot { .. } => "spot",
-                EmitterConfig::Directional { .. } => "directional",
-                EmitterConfig::Envmap { .. } => "envmap",
-                EmitterConfig::Constant { .. } => {
-                    return Err(InputError::new(
-                        &base.file,
-                        format!("light \"{target}\" is a constant environment, which cannot move"),
-                    )
-                    .field(field.to_string())
-                    .hint("list point, spot, directional, environment-map or area lights only"));
-                }
-            };
+            if matches!(em, EmitterConfig::Constant { .. }) {
+                return Err(InputError::new(
+                    &base.file,
+                    format!("light \"{target}\" is a constant environment, which cannot move"),
+                )
+                .field(field.to_string())
+                .hint("list point, spot, directional, environment-map or area lights only"));
+            }
+            // A translation moves nothing at infinity (and an environment map may only turn).
+            let at_infinity = matches!(
+                em,
+                EmitterConfig::Directional { .. } | EmitterConfig::Envmap { .. }
+            );
             if em.animation().is_some() {
                 return busy("already has an animation in the base scene");
             }
-            let translate = matches!(kind, "point" | "spot");
+            let translate = !at_infinity;
             let (ops, point) = match em.placement_mut() {
                 Placement::ToWorld(w) => (std::mem::take(w), None),
                 Placement::Position(p) => (Vec::new(), Some((Vec3::from(*p), true))),
@@ -86,7 +85,7 @@ pub(super) fn animate(
                     keys,
                 });
             }
-            (ops, translate, point, kind)
+            (ops, translate, point)
         }
     };
     let at = crate::load::transform(
@@ -97,7 +96,7 @@ pub(super) fn animate(
     .m;
     let rows: Vec<[f32; 4]> = (0..4).map(|i| at.row(i).to_array()).collect();
     let mut p = json!({
-        "target": target, "kind": kind, "direction": dir.to_array(),
+        "target": target, "direction": dir.to_array(),
         "speed": if translate { speed } else { 0.0 }, "orbit_degrees_per_second": orbit,
         "to_world": rows,
     });
