@@ -259,16 +259,43 @@ fn a_sliding_area_light_gives_the_time_averaged_radiance() {
 /// and once for the instants (as many samples), plus 1% of the column for the midpoint rule.
 #[test]
 fn area_light_blur_is_the_average_of_instants() {
-    let (w, h, spp) = (32u32, 16u32, 64u32);
     let light = r#"(shape: Rectangle, material: "black", emitter: (radiance: Constant(2.0)), animation: (interpolation: Cubic, keys: [
         (time: 0, to_world: [Scale((0.2, 0.3, 1)), Rotate(axis: (1, 0, 0), angle: 180), Translate((-2, 0.5, 1.2))]),
         (time: 0.5, to_world: [Scale((0.3, 0.4, 1)), Rotate(axis: (1, 0, 0), angle: 150), Rotate(axis: (0, 0, 1), angle: 60), Translate((0, -0.3, 1))]),
         (time: 1, to_world: [Scale((0.4, 0.2, 1)), Rotate(axis: (1, 0, 0), angle: 200), Rotate(axis: (0, 0, 1), angle: 120), Translate((2, 0.2, 0.8))])]))"#;
+    blur_vs_instants(light, &|text: String| render(&text));
+}
+
+/// The same for an emissive glTF mesh on an animated node: Khronos' AnimatedTriangle (its own
+/// rotation animation turns it once a second about z), made a light by the include's
+/// `emitter`, facing the plane.
+#[test]
+fn gltf_area_light_blur_is_the_average_of_instants() {
+    let dir = std::env::temp_dir().join(format!("prism-gltf-light-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/motion/AnimatedTriangle.gltf");
+    std::fs::copy(src, dir.join("tri.gltf")).unwrap();
+    let light = r#"(shape: Gltf(path: "tri.gltf"), material: "black", emitter: (radiance: Constant(2.0)),
+        to_world: [Scale((1.5, 1.5, 1.5)), Rotate(axis: (1, 0, 0), angle: 180), Translate((-0.5, 0.5, 1))])"#;
+    let n = std::cell::Cell::new(0);
+    blur_vs_instants(light, &|text: String| {
+        let p = dir.join(format!("s{}.ron", n.get()));
+        n.set(n.get() + 1);
+        std::fs::write(&p, text).unwrap();
+        render_job(&prism::load::load(&p, |_| {}).unwrap())
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Renders `light` over the plane with the shutter open (two seeds) and at 16 instants (via
+/// `render`), and compares them per column as `area_light_blur_is_the_average_of_instants` says.
+fn blur_vs_instants(light: &str, render: &dyn Fn(String) -> Film) {
+    let (w, h, spp) = (32u32, 16u32, 64u32);
     // The camera sees the light's black back where it passes: both sides of the comparison
     // hide the plane there alike.
     let blur = |seed: &str| {
         let s = plane_with(w, h, spp, ", shutter: (open: 0, close: 1)", light);
-        values(&render(&s.replace("seed: 3", seed)))
+        values(&render(s.replace("seed: 3", seed)))
     };
     let (b1, b2) = (blur("seed: 3"), blur("seed: 4"));
     let k = 16;
@@ -277,11 +304,13 @@ fn area_light_blur_is_the_average_of_instants() {
         let t = (i as f64 + 0.5) / k as f64;
         let shutter = format!(", shutter: (open: {t}, close: {t})");
         let s = plane_with(w, h, 2 * spp / k, &shutter, light);
-        for (a, v) in avg.iter_mut().zip(values(&render(&s))) {
+        for (a, v) in avg.iter_mut().zip(values(&render(s))) {
             *a += v as f64 / k as f64;
         }
     }
     let mut worst = 0.0f64;
+    let lit = avg.iter().filter(|v| **v > 1e-3).count();
+    assert!(lit > avg.len() / 4, "only {lit} pixels lit");
     for x in 0..w as usize {
         let (mut b, mut a, mut var) = (0.0, 0.0, 0.0);
         for y in 0..h as usize {
