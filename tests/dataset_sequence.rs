@@ -294,3 +294,75 @@ fn lights_move_along_a_sequence() {
         "across sequences"
     );
 }
+
+/// `keep_in_view` holds at every frame of a sequence, not only at its start pose: the camera
+/// dollies fast towards the table (5–7 units/s, a third of its distance within the sequence),
+/// so a start pose that merely frames the ball loses it in later frames (sequence 5's first
+/// draw does: with the check at the start pose only, frame 17 cuts the ball by ~3 px). Each frame's ball (a
+/// sphere: centre and radius from its JSON `bounds`), projected through the frame's own
+/// OpenCV K, R, t, lies wholly inside the image, to 1e-3 px (f32 rounding of the pose); 400
+/// points of its surface stand for the whole (the ones left out are within a few hundredths
+/// of a pixel of them at this size). Every frame alone equals the full run's.
+#[test]
+fn keep_in_view_holds_at_every_frame_of_a_sequence() {
+    let dir = workdir("seq-view");
+    let cfg = config(&dir, |t| {
+        t.replace(
+            "camera: Orbit(speed: (15, 35)),",
+            "camera: Dolly(speed: (5, 7)),",
+        )
+        .replace("sequences: 2,", "sequences: 6,")
+    });
+    let full = dir.join("full");
+    ok(&dataset(&cfg, &full, &[]));
+    let all = frames(&full);
+    let one = dir.join("one");
+    ok(&dataset(&cfg, &one, &["--frames", "17", "--threads", "1"]));
+    for (name, bytes) in frames(&one) {
+        assert!(all[&name] == bytes, "{name} differs from the full run");
+    }
+    let n = 400;
+    for i in 0..18u32 {
+        let j = json(&full, i);
+        let cam = &j["camera"];
+        let k = |r: usize, c: usize| cam["K"][r][c].as_f64().unwrap();
+        let rot = |r: usize, c: usize| cam["R"][r][c].as_f64().unwrap();
+        let tr = |r: usize| cam["t"][r].as_f64().unwrap();
+        let (w, h) = (j["width"].as_f64().unwrap(), j["height"].as_f64().unwrap());
+        let ball = j["objects"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|o| o["name"] == "ball")
+            .expect("the ball")
+            .clone();
+        let b = |e: &str, a: usize| ball["bounds"][e][a].as_f64().unwrap();
+        let centre: [f64; 3] = std::array::from_fn(|a| 0.5 * (b("min", a) + b("max", a)));
+        let radius = 0.5 * (b("max", 0) - b("min", 0));
+        let mut worst = f64::INFINITY;
+        for s in 0..n {
+            // A Fibonacci sphere of directions.
+            let y = 1.0 - 2.0 * (s as f64 + 0.5) / n as f64;
+            let phi = s as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+            let rr = (1.0 - y * y).sqrt();
+            let d = [rr * phi.cos(), y, rr * phi.sin()];
+            let p: [f64; 3] = std::array::from_fn(|a| centre[a] + radius * d[a]);
+            let x: [f64; 3] =
+                std::array::from_fn(|r| (0..3).map(|c| rot(r, c) * p[c]).sum::<f64>() + tr(r));
+            assert!(x[2] > 0.0, "frame {i}: the ball is behind the camera");
+            let u = (k(0, 0) * x[0] + k(0, 1) * x[1]) / x[2] + k(0, 2);
+            let v = k(1, 1) * x[1] / x[2] + k(1, 2);
+            // Inside [-0.5, w - 0.5] × [-0.5, h - 0.5] (OpenCV: pixel centres at integers).
+            let margin = (u + 0.5).min(w - 0.5 - u).min(v + 0.5).min(h - 0.5 - v);
+            worst = worst.min(margin);
+        }
+        assert!(
+            worst > -1e-3,
+            "frame {i} (sequence {}, index {}): the ball leaves the image by {} px",
+            i / 3,
+            i % 3,
+            -worst
+        );
+        println!("frame {i}: the ball's closest point is {worst:.2} px inside");
+    }
+}
