@@ -2,7 +2,8 @@
 //! tiny (2 sequences of 3 frames, 32×24 at 2 spp). A frame rendered alone is byte-identical to
 //! the same frame of the full run; each frame's JSON gives its sequence, index and time, the
 //! draws are shared within a sequence, and the objects' `to_world` move with the time as drawn;
-//! the flow layers are in every frame. Bad sequence fields exit 2 naming the field.
+//! the flow layers are in every frame; `keep_in_view` holds at every frame of a sequence. Bad
+//! sequence fields exit 2 naming the field.
 
 mod dataset_util;
 use dataset_util::*;
