@@ -288,6 +288,8 @@ impl Ctx {
             }
             // A static scene: the light in its pose at the shutter's opening.
             Emitter::Moving(m) => self.emitter(&m.posed()),
+            // Its shape is written as the scene holds it (object space), and so is the light.
+            Emitter::MovingArea(m) => self.emitter(&Emitter::Area(m.area.clone())),
         }
     }
 }

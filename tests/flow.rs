@@ -1,4 +1,5 @@
-//! Flow layers (issue 30 item 3): the occlusion mask and the flow of a moving object against
+//! Flow layers (issue 30 item 3): the occlusion mask and the flow of a moving object (a RON
+//! shape, a glTF model moved by RON keys or by its own node animation) against
 //! closed forms, and flow's bad inputs (item 5), which exit 2 naming the file, field and fix.
 //!
 //! The closed-form scenes use an orthographic camera 8 units wide looking along −z, so a
@@ -256,4 +257,71 @@ fn flow_beyond_the_keys_is_refused() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Flow on glTF models. A still glTF (tests/data/gltf/Box.gltf) given the sliding sphere's
+/// RON `animation` flows by the same closed form, 0.6 units = 3 px right on every pixel of it.
+/// Khronos' AnimatedTriangle turns by its own node animation 360° per second about +z through
+/// its node's origin c (here (0, −0.5, 0), scaled 2), LINEAR between keys 90° apart (slerp:
+/// uniform in time): a point p seen at t = 0.3 is at c + R_z(36°)(p − c) one 0.1 s step later,
+/// so its flow is that displacement in pixels (dx, −dy)·W/8, from the `position` layer's p.
+/// Tolerance 1e-3 px: f32 rounding of p and of the slerped rotation (≈1e-6 units, 5 px/unit).
+#[test]
+fn gltf_models_flow_by_their_closed_form() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bx = data.join("tests/data/gltf/Box.gltf");
+    let sliding = SLIDING.replace("Sphere(radius: 1)", &format!("Gltf(path: {bx:?})"));
+    let f = layers(&scene(0.5, r#""flow_forward", "instance""#, &sliding));
+    let (fx, fy, id) = (
+        f.channel("flow_forward.X").unwrap().to_vec(),
+        f.channel("flow_forward.Y").unwrap().to_vec(),
+        ids(&f),
+    );
+    let px = 0.6 * W as f32 / 8.0;
+    let on: Vec<usize> = (0..(W * H) as usize).filter(|&i| id[i] != 0).collect();
+    assert!(on.len() > 20, "{} pixels on the box", on.len());
+    for &i in &on {
+        assert!(
+            (fx[i] - px).abs() < 1e-3 && fy[i].abs() < 1e-3,
+            "box pixel {i}: {} {}",
+            fx[i],
+            fy[i]
+        );
+    }
+
+    let tri = data.join("scenes/motion/AnimatedTriangle.gltf");
+    let shape = format!(
+        "(shape: Gltf(path: {tri:?}), to_world: [Scale((2, 2, 2)), Translate((0, -0.5, 0))])"
+    );
+    let f = layers(&scene(
+        0.3,
+        r#""flow_forward", "position", "instance""#,
+        &shape,
+    ));
+    let ch = |n: &str| f.channel(n).unwrap_or_else(|| panic!("{n}")).to_vec();
+    let (fx, fy, x, y) = (
+        ch("flow_forward.X"),
+        ch("flow_forward.Y"),
+        ch("position.X"),
+        ch("position.Y"),
+    );
+    let id = ids(&f);
+    let (s, c) = 36f32.to_radians().sin_cos();
+    let mut on = 0;
+    for i in 0..(W * H) as usize {
+        if id[i] == 0 {
+            continue;
+        }
+        on += 1;
+        let (px, py) = (x[i], y[i] + 0.5);
+        let (dx, dy) = (c * px - s * py - px, s * px + c * py - py);
+        let (want_x, want_y) = (dx * W as f32 / 8.0, -dy * W as f32 / 8.0);
+        assert!(
+            (fx[i] - want_x).abs() < 1e-3 && (fy[i] - want_y).abs() < 1e-3,
+            "triangle pixel {i}: flow ({}, {}), closed form ({want_x}, {want_y})",
+            fx[i],
+            fy[i]
+        );
+    }
+    assert!(on > 20, "{on} pixels on the triangle");
 }

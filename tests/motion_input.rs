@@ -1,5 +1,5 @@
 //! Bad time input (issue 30 item 5): keyframes out of order, shared or non-finite times, a
-//! shutter that closes before it opens, shears in keys, moving lights, a non-finite `--time`:
+//! shutter that closes before it opens, shears in keys, a non-finite `--time`:
 //! each exits 2 naming the file, the field and the fix, before rendering.
 
 use std::path::{Path, PathBuf};
@@ -164,20 +164,6 @@ fn a_camera_key_that_scales_unequally_is_refused() {
         &s,
         &[],
         &["camera.animation.keys[1].to_world", "uniform scale"],
-    );
-}
-
-#[test]
-fn a_light_moving_during_the_exposure_is_refused() {
-    let s = scene(
-        "shutter: (open: 0, close: 1)",
-        &format!(", emitter: (radiance: Named(\"D65\")), animation: (keys: [{KEY0}, (time: 1)])"),
-    );
-    refused(
-        "light",
-        &s,
-        &[],
-        &["shapes[0].animation", "area light cannot move", "--time"],
     );
 }
 

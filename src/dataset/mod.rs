@@ -27,6 +27,7 @@ pub mod sheet;
 pub mod sheet_layers;
 pub mod textures;
 pub mod vary;
+pub mod view;
 
 pub use base::Base;
 pub use config::DatasetConfig;

@@ -5,7 +5,7 @@ use super::base::{Base, LightRef};
 use super::config::{LookAtVariation, ReflectanceSource};
 use super::library;
 use super::vary::{shell_point, Rng, Stream};
-use crate::camera::Camera;
+use super::view;
 use crate::config::sensor::{SensorField, SensorFile};
 use crate::config::{SceneConfig, SpectrumConfig, TransformOp};
 use crate::error::InputError;
@@ -137,7 +137,15 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
             let mut cfg = scene.camera.clone();
             cfg.fov = fov;
             cfg.to_world = ops;
-            if in_view(&cfg, &scene, &base.file, &watched, &bounds)? {
+            let mut posed = None;
+            if view::in_view(&cfg, &scene, &base.file, &watched, &bounds)? {
+                // In a sequence, also at every frame's pose of the camera and the shapes.
+                let mut trial = scene.clone();
+                trial.camera = cfg.clone();
+                let ok = view::throughout(base, i, &trial, &shown, &watched, &bounds)?;
+                posed = ok.then_some(cfg);
+            }
+            if let Some(cfg) = posed {
                 found = Some((
                     cfg,
                     json!({
@@ -152,12 +160,13 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
             return Err(InputError::new(
                 &base.file,
                 format!(
-                    "frame {i}: no camera pose in {} attempts keeps every shape of keep_in_view wholly in the image",
-                    cam.max_attempts
+                    "frame {i}: no camera pose in {} attempts keeps every shape of keep_in_view wholly in the image{}",
+                    cam.max_attempts,
+                    if c.sequences > 0 { " at every frame of its sequence" } else { "" }
                 ),
             )
             .field("camera.keep_in_view")
-            .hint("widen the fov, move the shell farther out, narrow its angles, or raise max_attempts"));
+            .hint("widen the fov, move the shell farther out, narrow its angles, or raise max_attempts (in a sequence, or slow motion.camera and motion.objects)"));
         };
         scene.camera = cfg;
         params.insert("camera".into(), p);
@@ -338,49 +347,6 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         params: Value::Object(params),
         exposure_scale,
     })
-}
-
-/// Whether every corner of each watched shape's bounds projects inside the image.
-fn in_view(
-    cam: &crate::config::CameraConfig,
-    scene: &SceneConfig,
-    file: &Path,
-    watched: &[usize],
-    bounds: &[(Vec3, Vec3)],
-) -> Result<bool, InputError> {
-    if watched.is_empty() {
-        return Ok(true);
-    }
-    let t = crate::load::transform(&cam.to_world, file, "camera")?;
-    let f = &scene.film;
-    let camera = match &cam.intrinsics {
-        Some(k) => Camera::Pinhole(crate::camera::Pinhole::with_intrinsics(
-            t,
-            crate::camera::Intrinsics::from_k(k.fx, k.fy, k.cx, k.cy, f.width, f.height),
-            cam.near_clip,
-            cam.far_clip,
-        )),
-        None => Camera::new(
-            t,
-            cam.fov,
-            cam.fov_axis,
-            cam.near_clip,
-            cam.far_clip,
-            f.width,
-            f.height,
-        ),
-    };
-    Ok(watched.iter().all(|&k| {
-        let (lo, hi) = bounds[k];
-        (0..8).all(|c| {
-            let p = Vec3::new(
-                if c & 1 == 0 { lo.x } else { hi.x },
-                if c & 2 == 0 { lo.y } else { hi.y },
-                if c & 4 == 0 { lo.z } else { hi.z },
-            );
-            camera.project(p, 0.0).is_some()
-        })
-    }))
 }
 
 /// `p` as an absolute path string (so the frame's scene finds it from anywhere).

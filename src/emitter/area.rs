@@ -124,6 +124,16 @@ impl AreaEmitter {
         }
     }
 
+    /// The object-space area density of a point on primitive `prim` (what `sample_area_uv`
+    /// reports there).
+    pub(super) fn pdf_area(&self, prim: u32) -> f32 {
+        if self.tri_pdf.is_empty() {
+            1.0 / self.area
+        } else {
+            self.tri_pdf.get(prim as usize).copied().unwrap_or(0.0)
+        }
+    }
+
     /// A uniform point on the shape (area measure; for emitter sampling the caller handles the
     /// sphere case by its cone). Uniform lights only: a textured one samples by its triangle
     /// weights (`sample_area_uv`).

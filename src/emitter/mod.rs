@@ -6,6 +6,7 @@
 mod area;
 mod envmap;
 mod moving;
+mod moving_area;
 mod radiance;
 mod spot;
 
@@ -18,6 +19,7 @@ pub use area::{AreaEmitter, AreaLightSample};
 pub use envmap::{illuminant as envmap_illuminant, BrightCells, EnvMap, TAIL_END, TAIL_KELVIN};
 use glam::{Vec2, Vec3};
 pub use moving::MovingLight;
+pub use moving_area::MovingArea;
 pub use radiance::{AreaRadiance, EmissionTexel, EmissionTexture};
 pub use spot::Spot;
 
@@ -39,6 +41,8 @@ pub enum Emitter {
     Envmap(Box<EnvMap>),
     /// A point, spot, directional light or environment map moving while the shutter is open.
     Moving(Box<MovingLight>),
+    /// An area light on a shape moving while the shutter is open.
+    MovingArea(Box<MovingArea>),
 }
 
 /// Light arriving at a point from a sampled point on an emitter.
@@ -92,6 +96,13 @@ impl Emitter {
     ) -> Option<EmitterSample<N>> {
         match self {
             Emitter::Area(_) => unreachable!("area lights are sampled by `sample_li`"),
+            Emitter::MovingArea(m) => m.sample_point(si, u).map(|s| EmitterSample {
+                wi: s.wi,
+                shadow: s.shadow,
+                radiance: m.area.radiance.eval(s.uv, wl),
+                pdf: s.pdf,
+                delta: false,
+            }),
             Emitter::Point {
                 position,
                 intensity,
@@ -234,6 +245,7 @@ impl Emitter {
     pub fn pdf_li_hit(&self, p: Vec3, light: &SurfaceInteraction, shapes: &[Shape]) -> f32 {
         match self {
             Emitter::Area(a) => a.pdf_li(p, light, shapes),
+            Emitter::MovingArea(m) => m.pdf_li(p, light),
             _ => 0.0,
         }
     }

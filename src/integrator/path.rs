@@ -243,6 +243,22 @@ impl<const N: usize> LeMemo<N> {
     }
 }
 
+impl<const N: usize> LeMemo<N> {
+    /// `get` out of line and cold, for a light on a moving shape: the inlined code for still
+    /// lights stays as it was (callgrind, docs/performance.md "Paths in lanes").
+    #[cold]
+    #[inline(never)]
+    fn get_moving(
+        &mut self,
+        e: u32,
+        a: &AreaEmitter,
+        uv: Vec2,
+        wl: &Wavelengths<N>,
+    ) -> Spectrum<N> {
+        self.get(e, a, uv, wl)
+    }
+}
+
 impl<const N: usize> Path<N> {
     /// Adds environment emitter `em`'s radiance along `d` (a ray that left the scene),
     /// MIS-weighted against the BSDF sampling that chose `d`.
@@ -274,6 +290,9 @@ impl<const N: usize> Path<N> {
         let em = &scene.emitters[e as usize];
         let le = match em {
             Emitter::Area(a) if show && si.ng.dot(-d) > 0.0 => self.le_memo.get(e, a, si.uv, wl),
+            Emitter::MovingArea(m) if show && si.ng.dot(-d) > 0.0 => {
+                self.le_memo.get_moving(e, &m.area, si.uv, wl)
+            }
             _ => Spectrum::zero(),
         };
         if !le.is_zero() {

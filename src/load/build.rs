@@ -142,9 +142,15 @@ pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
                 &mut materials,
                 &mut material_names,
             )?;
+            let at = (file, field.as_str(), range);
+            let light =
+                super::light_motion::area(sc, (&shape, shapes.len() as u32), m, at, &mut warnings)?;
+            shape_emitter.push(light.map(|e| {
+                emitters.push(e);
+                (emitters.len() - 1) as u32
+            }));
             shapes.push(shape);
             shape_material.push(mat);
-            shape_emitter.push(None);
             shape_name.push(None);
             shape_source.push(i);
             continue;

@@ -2,12 +2,15 @@
 //! with an `animation` (keys of its `to_world`, as a shape's; a point light's `position` and a
 //! directional light's `direction` are given in that frame). At an instant each light is
 //! written as its pose then and builds as a static light; with an open shutter it keeps its
-//! own frame and its motion (`emitter::MovingLight`). Area lights move with their shape.
+//! own frame and its motion (`emitter::MovingLight`). Area lights move with their shape: on a
+//! shape moving while the shutter is open, the light is sampled through the shape's motion
+//! (`area`, `emitter::MovingArea`).
 
-use crate::config::{EmitterConfig, Placement, SceneConfig};
-use crate::emitter::{Emitter, MovingLight};
+use crate::config::{EmitterConfig, Placement, SceneConfig, ShapeConfig};
+use crate::emitter::{AreaEmitter, Emitter, MovingArea, MovingLight};
 use crate::error::InputError;
 use crate::motion::Motion;
+use crate::shape::Shape;
 use glam::Vec3;
 use std::path::Path;
 
@@ -86,4 +89,27 @@ pub fn wrap(e: Emitter, m: Option<Motion>, open: f32) -> Emitter {
             open,
         })),
     }
+}
+
+/// The area light of shape `sc` (None if it emits nothing), built on `shape` (object space,
+/// scene index `index`) moving by `motion`; `at` is the scene file, the shape's field and the
+/// render's wavelength range.
+pub fn area(
+    sc: &ShapeConfig,
+    (shape, index): (&Shape, u32),
+    motion: &Motion,
+    (file, field, range): (&Path, &str, (f32, f32)),
+    warnings: &mut Vec<String>,
+) -> Result<Option<Emitter>, InputError> {
+    let Some(e) = &sc.emitter else {
+        return Ok(None);
+    };
+    let f = format!("{field}.emitter.radiance");
+    let radiance = super::emission::area_radiance(&e.radiance, file, &f, range, warnings)?;
+    super::emission::check_shape(&radiance, shape, file, &f)?;
+    Ok(Some(Emitter::MovingArea(Box::new(MovingArea {
+        area: AreaEmitter::with_radiance(index, shape, radiance),
+        motion: motion.clone(),
+        shape: shape.clone(),
+    }))))
 }

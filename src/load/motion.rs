@@ -271,8 +271,8 @@ pub(super) fn matrix_op(m: Mat4) -> TransformOp {
     TransformOp::Matrix(m.transpose().to_cols_array_2d())
 }
 
-/// Shape `sc` in object space, for a shape moving while the shutter is open. A glTF model or an
-/// area light cannot move during an exposure yet.
+/// Shape `sc` in object space, for a shape moving while the shutter is open (an area light on
+/// it moves with it: `light_motion::area`). A glTF model cannot move during an exposure yet.
 pub fn object_space(
     sc: &crate::config::ShapeConfig,
     file: &Path,
@@ -285,14 +285,6 @@ pub fn object_space(
         )
         .field(format!("{field}.animation"))
         .hint("render instants (prism render --time T, or shutter open = close), or animate RON shapes"));
-    }
-    if sc.emitter.is_some() {
-        return Err(InputError::new(
-            file,
-            "an area light cannot move while the shutter is open (only at an instant)",
-        )
-        .field(format!("{field}.animation"))
-        .hint("render instants (prism render --time T, or shutter open = close), or keep the light still"));
     }
     let mut obj = sc.clone();
     obj.to_world.clear();

@@ -207,14 +207,6 @@ pub fn expand(
             }
         };
         let emission = area.clone().or(emission);
-        if p.motion.is_some() && emission.is_some() {
-            return Err(InputError::new(
-                &full,
-                format!("{}: an emissive mesh cannot move while the shutter is open (only at an instant)", p.name),
-            )
-            .field(field.to_string())
-            .hint("render instants (prism render --time T, or shutter open = close), or keep the light still"));
-        }
         // A normal map's tangents in mesh space, once per primitive: the file's, else
         // MikkTSpace's on the mesh as the file gives it (glTF 2.0 §3.7.2.1: from the specified
         // positions, normals and uvs), so every use maps the same tangents.

@@ -361,9 +361,19 @@ pub(super) fn add_shapes(
             MatRef::New(k) => first + k as u32,
         };
         let emitter = s.emission.map(|radiance| {
-            emitters.push(crate::emitter::Emitter::Area(
-                crate::emitter::AreaEmitter::with_radiance(shapes.len() as u32, &s.shape, radiance),
-            ));
+            let light =
+                crate::emitter::AreaEmitter::with_radiance(shapes.len() as u32, &s.shape, radiance);
+            // A moving node's shape is in object space: its light moves with it.
+            emitters.push(match &s.motion {
+                Some(m) => {
+                    crate::emitter::Emitter::MovingArea(Box::new(crate::emitter::MovingArea {
+                        area: light,
+                        motion: m.clone(),
+                        shape: s.shape.clone(),
+                    }))
+                }
+                None => crate::emitter::Emitter::Area(light),
+            });
             (emitters.len() - 1) as u32
         });
         if let Some(m) = s.motion {
