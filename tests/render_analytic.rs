@@ -12,7 +12,7 @@ mod scratch;
 use common::mean_se;
 use prism::film::Film;
 use prism::integrator;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 fn render(text: &str, threads: usize) -> Film {
     let job = prism::load::load_str(text, Path::new("inline.ron")).unwrap();
