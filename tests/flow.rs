@@ -6,8 +6,9 @@
 //! world point (x, y) is seen at OpenCV pixel ((x + 4)·W/8 − 0.5, (h/2 − y)·W/8 − 0.5) at
 //! every depth: a point moving by (dx, dy) flows by (dx, −dy)·W/8 pixels.
 
+mod scratch;
 use prism::film::Film;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 const W: u32 = 40;
@@ -172,11 +173,8 @@ fn flow_layers_leave_the_colour_unchanged() {
     }
 }
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-flow-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("flow", name)
 }
 
 /// Writes `text` as scene.ron, runs `prism render scene.ron extra…`; asserts exit 2 with the

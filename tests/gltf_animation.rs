@@ -3,6 +3,7 @@
 //! scaled by the key interval), a spinning model's motion blur against its closed-form
 //! coverage, and bad animation data refused (item 5).
 
+mod scratch;
 use glam::{DMat4, DQuat, DVec3, Vec3};
 use prism::film::Film;
 use prism::shape::Shape;
@@ -15,11 +16,8 @@ fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-gltf-anim-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("gltf-anim", name)
 }
 
 /// A RON scene including the glTF file `model` (black), with `camera` fields and the shape's

@@ -4,8 +4,9 @@
 //! instants; `--time T` against the static light written at its pose at T; bad light keys
 //! refused (item 5).
 
+mod scratch;
 use prism::film::Film;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 fn render_job(job: &prism::load::Job) -> Film {
@@ -331,11 +332,8 @@ fn blur_vs_instants(light: &str, render: &dyn Fn(String) -> Film) {
     eprintln!("area light blur vs instants: worst column difference {worst:.3} of its tolerance");
 }
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-light-bad-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("light-bad", name)
 }
 
 /// Runs `prism render scene.ron`; asserts exit 2, no panic, and every needle in stderr.

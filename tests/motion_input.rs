@@ -2,14 +2,12 @@
 //! shutter that closes before it opens, shears in keys, a non-finite `--time`:
 //! each exits 2 naming the file, the field and the fix, before rendering.
 
-use std::path::{Path, PathBuf};
+mod scratch;
+use std::path::Path;
 use std::process::Command;
 
-fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-motion-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("motion", name)
 }
 
 /// A small scene with `camera` and `shape` fields spliced in.

@@ -2,6 +2,8 @@
 //! `prism dataset`, and reading its frames, manifest and EXRs.
 #![allow(dead_code)]
 
+#[path = "../scratch/mod.rs"]
+pub mod scratch;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -14,11 +16,8 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-pub fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-dataset-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+pub fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("dataset", name)
 }
 
 /// smoke.ron with its paths made absolute and `edit` applied, written into `dir`.
@@ -111,15 +110,18 @@ pub fn manifest(out: &Path) -> Vec<u64> {
 
 /// The full run, made once per test process.
 pub fn full_run() -> PathBuf {
-    static FULL: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    // Shared by the binary's tests, so its folder lives as long as the process (a static is
+    // never dropped): the one folder a passing run leaves behind.
+    static FULL: std::sync::OnceLock<(scratch::Scratch, PathBuf)> = std::sync::OnceLock::new();
     FULL.get_or_init(|| {
         let dir = workdir("full");
         let cfg = config(&dir, |t| t);
         let out = dir.join("out");
         ok(&dataset(&cfg, &out, &[]));
         assert_eq!(manifest(&out), (0..8).collect::<Vec<_>>());
-        out
+        (dir, out)
     })
+    .1
     .clone()
 }
 

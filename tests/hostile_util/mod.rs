@@ -2,6 +2,8 @@
 //! run with a wall bound, and what its exit and messages must be.
 #![allow(dead_code)]
 
+#[path = "../scratch/mod.rs"]
+pub mod scratch;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -12,11 +14,8 @@ pub fn prism() -> Command {
     c
 }
 
-pub fn workdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-hostile-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+pub fn workdir(name: &str) -> scratch::Scratch {
+    scratch::scratch("hostile", name)
 }
 
 pub const SCENE: &str = r#"(film: (width: 8, height: 6), sampler: (spp: 1),
