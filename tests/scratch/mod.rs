@@ -5,7 +5,7 @@
 #![allow(dead_code)]
 
 use std::ops::Deref;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 pub struct Scratch(Option<tempfile::TempDir>);
 
@@ -31,10 +31,6 @@ pub fn scratch(prefix: &str, name: &str) -> Scratch {
 impl Scratch {
     pub fn path(&self) -> &Path {
         self.0.as_ref().expect("present until dropped").path()
-    }
-
-    pub fn to_path_buf(&self) -> PathBuf {
-        self.path().to_path_buf()
     }
 }
 
