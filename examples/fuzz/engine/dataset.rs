@@ -6,6 +6,7 @@
 //! folder: exit 2 changes nothing in it and names a file; exit 0 lists every selected frame
 //! under its own files, each EXR finite in every channel.
 
+use super::damage::{damage, read_regular, Damage};
 use super::seeds::{absolute_strings, prepare, set_number};
 use super::{Case, DatasetSeed};
 use serde::{Deserialize, Serialize};
@@ -112,33 +113,6 @@ pub enum OutState {
     Primed(Vec<Damage>),
 }
 
-/// A damage to a finished run's folder.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum Damage {
-    /// The manifest's last `n` bytes cut (a torn line).
-    TornTail(usize),
-    /// A line of these bytes appended (garbage, invalid UTF-8).
-    AppendLine(Vec<u8>),
-    /// Frame 1's line and files removed, then a forged line appended: frame 1 naming frame
-    /// 0's files ("other"), frame 1 with `"files": []` ("empty"), or frame 99 of 2 with copies
-    /// of frame 0's files ("past").
-    Forge(String),
-    /// `name` (relative to OUT) replaced by a directory, a file, a FIFO (a directory
-    /// in-process, where a blocked open would stop the fuzzer), a dangling link or a link to
-    /// /dev/zero.
-    WrongType(String, String),
-    /// A temporary of a dead process (`.NAME.<pid>.tmp.EXT`) beside a frame and the JSON.
-    StaleTemp,
-    /// A file of the user's in OUT or in frames/.
-    ForeignFile(String),
-    /// Frame 0's EXR with a byte flipped at this offset (same size).
-    CorruptFrame(usize),
-    /// dataset.json cut to this many bytes.
-    TruncateIdentity(usize),
-    /// Frame 1's EXR removed.
-    RemoveFrame,
-}
-
 /// A dataset case: the config (its base scene is the case's `scene`), the unmutated pair the
 /// folder is primed with, the folder's state and the command's flags.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -161,54 +135,6 @@ pub const FLAGS: &[&[&str]] = &[
     &["--export-frame", "1"],
     &["--shard", "1", "--num-shards", "2"],
 ];
-
-const TARGETS: &[&str] = &[
-    "manifest.jsonl",
-    "frames",
-    ".prism-dataset.lock",
-    "dataset.json",
-    "frames/000000.exr",
-    "frames/000001.json",
-];
-const KINDS: &[&str] = &["dir", "file", "fifo", "dangling", "devzero"];
-
-/// A random state (`pick(n)` is uniform in 0..n).
-pub fn random_state(pick: &mut dyn FnMut(usize) -> usize) -> OutState {
-    match pick(10) {
-        0 => OutState::Absent,
-        1 => OutState::Empty,
-        2 => OutState::Foreign,
-        3 => [OutState::IsFile, OutState::DanglingLink][pick(2)].clone(),
-        _ => {
-            let n = pick(3);
-            let d = (0..n)
-                .map(|_| match pick(9) {
-                    0 => Damage::TornTail(1 + pick(60)),
-                    1 => Damage::AppendLine(
-                        [
-                            &b"{\"frame\":1,\xff\xfe}"[..],
-                            &b"{\"frame\":0"[..],
-                            &b"garbage"[..],
-                            &b"\0\0\0"[..],
-                        ][pick(4)]
-                        .to_vec(),
-                    ),
-                    2 => Damage::Forge(["other", "empty", "past"][pick(3)].into()),
-                    3 => Damage::WrongType(
-                        TARGETS[pick(TARGETS.len())].into(),
-                        KINDS[pick(KINDS.len())].into(),
-                    ),
-                    4 => Damage::StaleTemp,
-                    5 => Damage::ForeignFile(["notes.txt", "frames/notes.txt"][pick(2)].into()),
-                    6 => Damage::CorruptFrame(pick(400)),
-                    7 => Damage::TruncateIdentity(pick(200)),
-                    _ => Damage::RemoveFrame,
-                })
-                .collect();
-            OutState::Primed(d)
-        }
-    }
-}
 
 /// The command line of a dataset case (the config and OUT absolute, as in every case).
 pub fn args(dir: &Path, flags: &[String]) -> Vec<String> {
@@ -263,108 +189,6 @@ pub fn materialise(case: &Case, d: &DatasetCase, dir: &Path, repo: &Path, fifo: 
         }
     }
     write_pair(&d.config, &case.scene);
-}
-
-fn damage(out: &Path, d: &Damage, fifo: bool) {
-    let m = out.join("manifest.jsonl");
-    let text = std::fs::read(&m).unwrap_or_default();
-    let frame0 = |t: &[u8]| -> Option<String> {
-        String::from_utf8_lossy(t)
-            .lines()
-            .find(|l| l.starts_with("{\"frame\":0,"))
-            .map(String::from)
-    };
-    match d {
-        Damage::TornTail(n) => {
-            let _ = std::fs::write(&m, &text[..text.len().saturating_sub(*n)]);
-        }
-        Damage::AppendLine(b) => {
-            let mut t = text.clone();
-            t.extend_from_slice(b);
-            t.push(b'\n');
-            let _ = std::fs::write(&m, t);
-        }
-        Damage::Forge(kind) => {
-            let Some(line0) = frame0(&text) else { return };
-            let keep: String = String::from_utf8_lossy(&text)
-                .lines()
-                .filter(|l| !l.starts_with("{\"frame\":1,"))
-                .map(|l| format!("{l}\n"))
-                .collect();
-            for e in ["exr", "json", "png"] {
-                let _ = std::fs::remove_file(out.join(format!("frames/000001.{e}")));
-            }
-            let forged = match kind.as_str() {
-                "other" => line0.replacen("\"frame\":0", "\"frame\":1", 1),
-                "empty" => {
-                    let head = line0.split("\"files\":[").next().unwrap_or("");
-                    let tail = line0.find("],\"seconds\"").map_or("}", |i| &line0[i + 1..]);
-                    format!(
-                        "{}\"files\":[]{tail}",
-                        head.replacen("\"frame\":0", "\"frame\":1", 1)
-                    )
-                }
-                _ => {
-                    for e in ["exr", "json", "png"] {
-                        let _ = std::fs::copy(
-                            out.join(format!("frames/000000.{e}")),
-                            out.join(format!("frames/000099.{e}")),
-                        );
-                    }
-                    line0
-                        .replacen("\"frame\":0", "\"frame\":99", 1)
-                        .replace("frames/000000.", "frames/000099.")
-                }
-            };
-            let _ = std::fs::write(&m, format!("{keep}{forged}\n"));
-        }
-        Damage::WrongType(name, kind) => {
-            let p = out.join(name);
-            if p.is_dir() {
-                let _ = std::fs::remove_dir_all(&p);
-            } else {
-                let _ = std::fs::remove_file(&p);
-            }
-            let _ = match (kind.as_str(), fifo) {
-                ("dir", _) | ("fifo", false) => std::fs::create_dir(&p),
-                ("file", _) => std::fs::write(&p, "x"),
-                ("fifo", true) => {
-                    let c = std::ffi::CString::new(p.display().to_string()).unwrap();
-                    // SAFETY: a NUL-terminated path of our own.
-                    unsafe { libc::mkfifo(c.as_ptr(), 0o644) };
-                    Ok(())
-                }
-                ("dangling", _) => std::os::unix::fs::symlink(out.join("nowhere/x"), &p),
-                _ => std::os::unix::fs::symlink("/dev/zero", &p),
-            };
-        }
-        Damage::StaleTemp => {
-            let _ = std::fs::write(out.join("frames/.000000.exr.999999.tmp.exr"), "half");
-            let _ = std::fs::write(out.join(".dataset.json.999999.tmp.json"), "{");
-        }
-        Damage::ForeignFile(name) => {
-            let _ = std::fs::write(out.join(name), "mine");
-        }
-        Damage::CorruptFrame(at) => {
-            let p = out.join("frames/000000.exr");
-            if let Ok(mut b) = std::fs::read(&p) {
-                if !b.is_empty() {
-                    let i = at % b.len();
-                    b[i] ^= 0x5a;
-                    let _ = std::fs::write(&p, b);
-                }
-            }
-        }
-        Damage::TruncateIdentity(n) => {
-            let p = out.join("dataset.json");
-            if let Ok(b) = std::fs::read(&p) {
-                let _ = std::fs::write(&p, &b[..(*n).min(b.len())]);
-            }
-        }
-        Damage::RemoveFrame => {
-            let _ = std::fs::remove_file(out.join("frames/000001.exr"));
-        }
-    }
 }
 
 /// What OUT holds, for "exit 2 changed nothing": each path under it (links not followed) with
@@ -427,7 +251,8 @@ pub fn promise(
         return (!ron.is_file()).then(|| "exit 0 without frames/000001.ron".to_string());
     }
     let selected: Vec<u32> = if has("--shard") { vec![1] } else { vec![0, 1] };
-    let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap_or_default();
+    let manifest = read_regular(&out.join("manifest.jsonl")).unwrap_or_default();
+    let manifest = String::from_utf8_lossy(&manifest);
     for f in selected {
         let exr = format!("frames/{f:06}.exr");
         let own = manifest.lines().any(|l| {
@@ -438,6 +263,10 @@ pub fn promise(
             return Some(format!(
                 "exit 0 but the manifest lists no line of frame {f} with {exr}"
             ));
+        }
+        // Checked before it is read: a FIFO left by a damage would block the read.
+        if !std::fs::symlink_metadata(out.join(&exr)).is_ok_and(|m| m.file_type().is_file()) {
+            return Some(format!("exit 0 but {exr} is not a regular file"));
         }
         if let Some(bad) = super::oracle::non_finite(&out.join(&exr)) {
             return Some(format!("{exr}: {bad}"));

@@ -10,6 +10,7 @@
 
 #![allow(dead_code)]
 
+mod damage;
 mod dataset;
 mod mutate;
 mod oracle;

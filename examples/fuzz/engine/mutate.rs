@@ -416,7 +416,8 @@ pub fn make_case(seeds: &Seeds, seed: u64, index: u64) -> Case {
 /// three times (as text, or sometimes as bytes), its base scene sometimes too, an output
 /// folder state and the command's flags (examples/fuzz/engine/dataset.rs).
 pub fn make_dataset_case(seeds: &Seeds, seed: u64, index: u64) -> Case {
-    use super::dataset::{random_state, DatasetCase, FLAGS};
+    use super::damage::random_state;
+    use super::dataset::{DatasetCase, FLAGS};
     let mut r = Rng(Pcg32::new(hash3(seed, index, 0xda7a), index));
     let s = r.pick(&seeds.datasets).clone();
     let mut what = vec![s.name.clone()];
