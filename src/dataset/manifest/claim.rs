@@ -52,6 +52,7 @@ impl Out {
                 ));
             }
         }
+        self.outputs_are_files()?;
         // Refused before the folder or its lock file is made: a refusal leaves it as it was.
         let first = self.found(identity, config_file)?;
         let overwrite = match first {
@@ -111,6 +112,43 @@ impl Out {
     }
 
     /// What the folder holds (read only: nothing is made).
+    /// Every path a run writes (a frame's `NNNNNN.exr|json|png|ron` in frames/, the contact
+    /// sheet) is absent or a regular file. A directory, FIFO, device or link there is not
+    /// prism's to replace, and writing a frame onto it fails only after rendering (exit 1, the
+    /// long fuzz run of seed 20261204, cases 4738 and 6743): refused up front, with `--force`
+    /// too, since starting over does not remove what is not prism's.
+    fn outputs_are_files(&self) -> Result<(), Error> {
+        let is_output = |name: &str| {
+            name.split_once('.').is_some_and(|(stem, ext)| {
+                stem.len() >= 6
+                    && stem.bytes().all(|b| b.is_ascii_digit())
+                    && matches!(ext, "exr" | "json" | "png" | "ron")
+            })
+        };
+        let frames = std::fs::read_dir(self.frames_dir()).into_iter().flatten();
+        let mut paths: Vec<_> = frames
+            .flatten()
+            .filter(|e| e.file_name().to_str().is_some_and(is_output))
+            .map(|e| e.path())
+            .collect();
+        paths.sort();
+        paths.push(self.root.join("contact_sheet.png"));
+        for p in paths {
+            if std::fs::symlink_metadata(&p).is_ok_and(|m| !m.is_file()) {
+                let rel = p
+                    .strip_prefix(&self.root)
+                    .unwrap_or(&p)
+                    .display()
+                    .to_string();
+                return Err(folder_error(
+                    &p,
+                    format!("`{rel}` in the output folder is not a regular file, and a run writes it: prism replaces only its own files"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     fn found(&self, identity: &Value, config_file: &Path) -> Result<Found, Error> {
         let path = self.root.join(DATASET_JSON);
         if path.is_file() {
