@@ -470,16 +470,19 @@ fn channels<const N: usize>(c: [Channel; N]) -> Vec<Channel> {
     c.to_vec()
 }
 
-/// The glTF cases: (light JSON, rig fields, lamp fields, channels, the equivalent RON light,
+/// A glTF case: (light JSON, rig fields, lamp fields, channels, the equivalent RON light,
 /// tolerance relative to the pixel).
-fn gltf_cases() -> Vec<(
+type Case = (
     &'static str,
     &'static str,
     &'static str,
     Vec<Channel>,
     String,
     f32,
-)> {
+);
+
+/// The glTF cases.
+fn gltf_cases() -> Vec<Case> {
     let (outer, inner) = (0.7f32, 0.5f32);
     vec![
         (
