@@ -82,6 +82,11 @@ pub struct RenderArgs {
     /// open = close = T; animated transforms take their values then).
     #[arg(long, allow_hyphen_values = true)]
     pub time: Option<f32>,
+    /// Opens the shutter from OPEN to CLOSE seconds (motion blur), with READOUT seconds per row
+    /// for a rolling shutter: `--shutter 0,0.02` or `--shutter 0,0.02,0.00002` (replaces the
+    /// camera's shutter; a glTF file rendered directly has no other).
+    #[arg(long, value_name = "OPEN,CLOSE[,READOUT]", value_parser = parse_shutter, conflicts_with = "time", allow_hyphen_values = true)]
+    pub shutter: Option<crate::config::ShutterConfig>,
     /// Frames per second (overrides the scene's camera.fps): the flow layers follow each
     /// pixel's point to the frames 1/fps later and earlier.
     #[arg(long)]
@@ -149,6 +154,26 @@ fn parse_named_sensor(s: &str) -> Result<(String, PathBuf), String> {
         }
         _ => Err(format!(
             "`{s}` is not NAME=FILE (e.g. --also-sensor nikon=configs/sensors/nikon_d810.ron)"
+        )),
+    }
+}
+
+/// `OPEN,CLOSE[,READOUT]` in seconds (the loader checks the values: `load::motion`).
+fn parse_shutter(s: &str) -> Result<crate::config::ShutterConfig, String> {
+    let v: Result<Vec<f32>, _> = s.split(',').map(|x| x.trim().parse::<f32>()).collect();
+    match v.as_deref() {
+        Ok(&[open, close]) => Ok(crate::config::ShutterConfig {
+            open,
+            close,
+            readout: 0.0,
+        }),
+        Ok(&[open, close, readout]) => Ok(crate::config::ShutterConfig {
+            open,
+            close,
+            readout,
+        }),
+        _ => Err(format!(
+            "`{s}` is not OPEN,CLOSE or OPEN,CLOSE,READOUT in seconds (e.g. --shutter 0,0.02)"
         )),
     }
 }
@@ -259,6 +284,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         }
         if let Some(t) = args.time {
             crate::load::motion::set_time(cfg, t);
+        }
+        if let Some(sh) = args.shutter {
+            cfg.camera.shutter = Some(sh);
         }
         if args.fps.is_some() {
             cfg.camera.fps = args.fps;

@@ -2,7 +2,8 @@
 //! open against the closed-form time average of its irradiance; a sliding, spinning area light
 //! against an independent numerical time average, and against the mean of renders at
 //! instants; `--time T` against the static light written at its pose at T; bad light keys
-//! refused (item 5).
+//! refused (item 5); glTF KHR_lights_punctual lights on animated nodes against the RON lights
+//! with the same keys and against the mean of their instants, and under nested motion refused.
 
 mod scratch;
 use prism::film::Film;
@@ -121,8 +122,7 @@ fn a_sliding_point_light_gives_the_time_averaged_irradiance() {
 /// within 1e-4 relative where a slerp and a rotation matrix round differently.
 #[test]
 fn an_instant_of_a_moving_light_is_the_static_light() {
-    let dir = std::env::temp_dir().join(format!("prism-light-at-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch::scratch("light-at", "instants");
     let at = |name: &str, emitters: &str, t: f32| {
         let p = dir.join(name);
         std::fs::write(&p, plane(24, 12, 4, "", emitters)).unwrap();
@@ -160,7 +160,6 @@ fn an_instant_of_a_moving_light_is_the_static_light() {
             );
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `plane` with a black (ρ = 0: no interreflection) area light shape added.
@@ -257,7 +256,8 @@ fn a_sliding_area_light_gives_the_time_averaged_radiance() {
 /// path, so its pose at the wrong time, or its density read in the wrong pose, shows.
 /// Compared per column (sums over rows): within 5 standard deviations of the noise, estimated
 /// from two blurred renders of different seeds (their difference), counted once for the blur
-/// and once for the instants (as many samples), plus 1% of the column for the midpoint rule.
+/// and once for the instants (as many samples), plus 1% of the column for the midpoint rule
+/// and 0.1% of the brightest column.
 #[test]
 fn area_light_blur_is_the_average_of_instants() {
     let light = r#"(shape: Rectangle, material: "black", emitter: (radiance: Constant(2.0)), animation: (interpolation: Cubic, keys: [
@@ -272,8 +272,7 @@ fn area_light_blur_is_the_average_of_instants() {
 /// `emitter`, facing the plane.
 #[test]
 fn gltf_area_light_blur_is_the_average_of_instants() {
-    let dir = std::env::temp_dir().join(format!("prism-gltf-light-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch::scratch("gltf-light", "area");
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/motion/AnimatedTriangle.gltf");
     std::fs::copy(src, dir.join("tri.gltf")).unwrap();
     let light = r#"(shape: Gltf(path: "tri.gltf"), material: "black", emitter: (radiance: Constant(2.0)),
@@ -285,7 +284,6 @@ fn gltf_area_light_blur_is_the_average_of_instants() {
         std::fs::write(&p, text).unwrap();
         render_job(&prism::load::load(&p, |_| {}).unwrap())
     });
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Renders `light` over the plane with the shutter open (two seeds) and at 16 instants (via
@@ -311,6 +309,13 @@ fn blur_vs_instants(light: &str, render: &dyn Fn(String) -> Film) {
     }
     let mut worst = 0.0f64;
     let lit = avg.iter().filter(|v| **v > 1e-3).count();
+    let brightest = (0..w as usize)
+        .map(|x| {
+            (0..h as usize)
+                .map(|y| avg[y * w as usize + x])
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max);
     assert!(lit > avg.len() / 4, "only {lit} pixels lit");
     for x in 0..w as usize {
         let (mut b, mut a, mut var) = (0.0, 0.0, 0.0);
@@ -322,10 +327,13 @@ fn blur_vs_instants(light: &str, render: &dyn Fn(String) -> Film) {
             // E[(p1 − p2)²] = 2σ² for one render; the mean of two has σ²/2; the instants as much.
             var += 2.0 * (p1 - p2).powi(2) / 4.0;
         }
-        let tol = 5.0 * var.sqrt() + 0.01 * a;
-        worst = worst.max((b - a).abs() / tol);
+        // Plus 1e-3 of the brightest column: a column lit only in the shutter's last few
+        // percent (a spot's cone edge) is missed alike by the midpoint rule and the blur's few
+        // samples there (measured: 5e-4 of it).
+        let tol = 5.0 * var.sqrt() + 0.01 * a + 1e-3 * brightest;
+        worst = worst.max((b - a).abs() / tol.max(f64::MIN_POSITIVE));
         assert!(
-            (b - a).abs() < tol,
+            (b - a).abs() <= tol,
             "column {x}: blur {b}, instants {a}, tolerance {tol}"
         );
     }
@@ -387,4 +395,232 @@ fn bad_light_keys_are_refused() {
         r#"Envmap(filename: "sky.exr", animation: (keys: [(time: 0, to_world: [Scale((2, 2, 2))])]))"#,
         &["emitters[0].animation.keys[0].to_world", "only rotate"],
     );
+}
+
+/// A glTF file with one KHR_lights_punctual light (`light`: its JSON) on node 1, "Lamp" (its
+/// own `lamp` fields spliced in), under node 0, "Rig" (`rig` fields), and LINEAR channels
+/// `(node, path, times, outputs)`.
+fn lamp_gltf(light: &str, rig: &str, lamp: &str, channels: &[Channel]) -> String {
+    let mut bytes: Vec<u8> = Vec::new();
+    let (mut views, mut accessors, mut samplers, mut chans) = (vec![], vec![], vec![], vec![]);
+    for (k, (node, path, times, out)) in channels.iter().enumerate() {
+        let ty = if *path == "rotation" {
+            ("VEC4", 4)
+        } else {
+            ("VEC3", 3)
+        };
+        for (v, t, n) in [
+            (*times, "SCALAR", times.len()),
+            (*out, ty.0, out.len() / ty.1),
+        ] {
+            views.push(format!(
+                r#"{{"buffer": 0, "byteOffset": {}, "byteLength": {}}}"#,
+                bytes.len(),
+                v.len() * 4
+            ));
+            accessors.push(format!(
+                r#"{{"bufferView": {}, "componentType": 5126, "count": {n}, "type": "{t}"}}"#,
+                views.len() - 1
+            ));
+            v.iter().for_each(|x| bytes.extend(x.to_le_bytes()));
+        }
+        samplers.push(format!(
+            r#"{{"input": {}, "output": {}}}"#,
+            2 * k,
+            2 * k + 1
+        ));
+        chans.push(format!(
+            r#"{{"sampler": {k}, "target": {{"node": {node}, "path": "{path}"}}}}"#
+        ));
+    }
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+  "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {{"KHR_lights_punctual": {{"lights": [{light}]}}}},
+  "nodes": [{{"name": "Rig", "children": [1]{rig}}},
+            {{"name": "Lamp", "extensions": {{"KHR_lights_punctual": {{"light": 0}}}}{lamp}}}],
+  "animations": [{{"samplers": [{}], "channels": [{}]}}],
+  "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}],
+  "bufferViews": [{}], "accessors": [{}]}}"#,
+        samplers.join(", "),
+        chans.join(", "),
+        bytes.len(),
+        base64::encode(&bytes),
+        views.join(", "),
+        accessors.join(", ")
+    )
+}
+
+/// The RON spectrum of a white glTF light of luminous value `v` (candela or lux): the factor
+/// the importer computes, written as RON writes an f32 (shortest round trip: the same bits).
+fn white(v: f32) -> String {
+    let k = prism::load::gltf::photometric_scale([1.0, 1.0, 1.0], v);
+    format!("Scaled({k:?}, Rgb(1, 1, 1))")
+}
+
+/// A glTF channel: (node, path, key times, outputs).
+type Channel = (u32, &'static str, &'static [f32], &'static [f32]);
+
+const T01: &[f32] = &[0.0, 1.0];
+/// Identity, then 40° about x (sin 20°, cos 20° to f32).
+const TILT: &[f32] = &[0.0, 0.0, 0.0, 1.0, 0.342_020_14, 0.0, 0.0, 0.939_692_6];
+
+/// A list of channels (a typed array: its slices coerce where a `vec!` would not).
+fn channels<const N: usize>(c: [Channel; N]) -> Vec<Channel> {
+    c.to_vec()
+}
+
+/// A glTF case: (light JSON, rig fields, lamp fields, channels, the equivalent RON light,
+/// tolerance relative to the pixel).
+type Case = (
+    &'static str,
+    &'static str,
+    &'static str,
+    Vec<Channel>,
+    String,
+    f32,
+);
+
+/// The glTF cases.
+fn gltf_cases() -> Vec<Case> {
+    let (outer, inner) = (0.7f32, 0.5f32);
+    vec![
+        (
+            // A point light 1 above its rig, which slides along x: the animated node is the
+            // lamp's parent, and RON gives the position in the animated frame.
+            r#"{"type": "point", "intensity": 40}"#,
+            "",
+            r#", "translation": [0, 0, 1]"#,
+            channels([(0, "translation", T01, &[-2.0, 0.0, 0.0, 2.0, 0.0, 0.0])]),
+            format!(
+                r#"Point(position: (0, 0, 1), intensity: {}, animation: (keys: [
+                (time: 0, to_world: [Translate((-2, 0, 0))]), (time: 1, to_world: [Translate((2, 0, 0))])]))"#,
+                white(40.0)
+            ),
+            0.0,
+        ),
+        (
+            // A spot (shining down its local −z) sliding along x and tilting by 40° about x,
+            // under a still rig 2 above the plane.
+            r#"{"type": "spot", "intensity": 60, "spot": {"innerConeAngle": 0.5, "outerConeAngle": 0.7}}"#,
+            r#", "translation": [0, 0, 2]"#,
+            "",
+            channels([
+                (1, "translation", T01, &[-1.0, 0.0, 0.0, 1.0, 0.0, 0.0]),
+                (1, "rotation", T01, TILT),
+            ]),
+            format!(
+                r#"Spot(intensity: {}, cutoff_angle: {:?}, beam_width: {:?}, animation: (keys: [
+                (time: 0, to_world: [Scale((1, -1, -1)), Translate((-1, 0, 2))]),
+                (time: 1, to_world: [Scale((1, -1, -1)), Rotate(axis: (1, 0, 0), angle: 40), Translate((1, 0, 2))])]))"#,
+                white(60.0),
+                outer.to_degrees(),
+                inner.to_degrees()
+            ),
+            1e-4,
+        ),
+        (
+            // Sunlight (lux) tilting by 40° about x.
+            r#"{"type": "directional", "intensity": 3}"#,
+            "",
+            "",
+            channels([(1, "rotation", T01, TILT)]),
+            format!(
+                r#"Directional(irradiance: {}, direction: (0, 0, -1), animation: (keys: [
+                (time: 0, to_world: []), (time: 1, to_world: [Rotate(axis: (1, 0, 0), angle: 40)])]))"#,
+                white(3.0)
+            ),
+            1e-4,
+        ),
+    ]
+}
+
+/// With an open shutter a KHR_lights_punctual light on an animated node (or under one) moves
+/// as the RON light with the same keys (`emitter::MovingLight`, the same tracks): bit for bit
+/// for the point light (its pose is the translation alone, exact in f32), within 1e-4 of each
+/// pixel plus 1e-4 of the brightest (the spot's cone edge, where the falloff is steep) where
+/// the keys' rotations round differently (a slerped quaternion against a rotation matrix
+/// decomposed back: measured 2e-4 of a pixel 1e-4 as bright as the brightest).
+/// Before, the glTF light stayed frozen at the shutter's opening.
+#[test]
+fn gltf_punctual_lights_move_as_ron_lights() {
+    let dir = scratch::scratch("gltf-light", "punctual");
+    for (k, (light, rig, lamp, channels, ron, rel)) in gltf_cases().into_iter().enumerate() {
+        let name = format!("lamp{k}.gltf");
+        std::fs::write(dir.join(&name), lamp_gltf(light, rig, lamp, &channels)).unwrap();
+        let open = ", shutter: (open: 0.1, close: 0.9)";
+        let shape = format!(r#"(shape: Gltf(path: "{name}"))"#);
+        let render_at = |text: String, file: &str| {
+            let p = dir.join(file);
+            std::fs::write(&p, text).unwrap();
+            values(&render_job(&prism::load::load(&p, |_| {}).unwrap()))
+        };
+        let a = render_at(plane_with(24, 12, 4, open, &shape), "a.ron");
+        let b = render_at(plane(24, 12, 4, open, &ron), "b.ron");
+        let lit = b.iter().filter(|v| **v > 0.0).count();
+        assert!(lit > a.len() / 4, "case {k}: only {lit} pixels lit");
+        let max = b.iter().fold(0f32, |m, v| m.max(*v));
+        for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+            assert!(
+                (x - y).abs() <= rel * (y.abs() + max),
+                "case {k} pixel {i}: glTF {x}, RON {y}"
+            );
+        }
+    }
+}
+
+/// The glTF spot of `gltf_punctual_lights_move_as_ron_lights` (slid and tilted by its node)
+/// blurs as the mean of its instants, each built as a static light at its pose then, within
+/// `blur_vs_instants`' tolerance.
+#[test]
+fn gltf_spot_blur_is_the_average_of_instants() {
+    let dir = scratch::scratch("gltf-light", "blur");
+    let (light, rig, lamp, channels, _, _) = gltf_cases().swap_remove(1);
+    // 60 cd is ~1e-8 W sr⁻¹ nm⁻¹ here: scaled up past `blur_vs_instants`' 1e-3 "lit" floor.
+    let light = light.replace(r#""intensity": 60"#, r#""intensity": 6e7"#);
+    std::fs::write(
+        dir.join("spot.gltf"),
+        lamp_gltf(&light, rig, lamp, &channels),
+    )
+    .unwrap();
+    let n = std::cell::Cell::new(0);
+    blur_vs_instants(r#"(shape: Gltf(path: "spot.gltf"))"#, &|text: String| {
+        let p = dir.join(format!("s{}.ron", n.get()));
+        n.set(n.get() + 1);
+        std::fs::write(&p, text).unwrap();
+        render_job(&prism::load::load(&p, |_| {}).unwrap())
+    });
+}
+
+/// A glTF light under two animated nodes (the rig and the lamp both move) cannot be traced
+/// while the shutter is open: exit 2, naming the glTF file, the node and the fix.
+#[test]
+fn a_gltf_light_under_nested_motion_is_refused() {
+    let dir = workdir("gltf-nested");
+    let channels: [Channel; 2] = [
+        (0, "translation", T01, &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0]),
+        (1, "translation", T01, &[0.0, 0.0, 1.0, 0.0, 1.0, 1.0]),
+    ];
+    let gltf = lamp_gltf(r#"{"type": "point", "intensity": 40}"#, "", "", &channels);
+    std::fs::write(dir.join("lamp.gltf"), gltf).unwrap();
+    let text = plane_with(
+        8,
+        6,
+        1,
+        ", shutter: (open: 0, close: 1)",
+        r#"(shape: Gltf(path: "lamp.gltf"))"#,
+    );
+    std::fs::write(dir.join("scene.ron"), text).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_prism"))
+        .current_dir(&dir)
+        .args(["render", "scene.ron", "-q"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!dir.join("scene.exr").exists(), "rendered");
+    for n in ["lamp.gltf", "nodes[1]", "nested", "--time"] {
+        assert!(err.contains(n), "stderr lacks `{n}`:\n{err}");
+    }
 }

@@ -39,7 +39,10 @@ pub fn load(path: &Path, edit: impl FnOnce(&mut SceneConfig)) -> Result<Job, Err
         if super::gltf::is_gltf(path) {
             let model = super::gltf::open(path)?;
             let (mut cfg, warnings) = super::gltf::scene_for(&model)?;
+            let camera = cfg.camera.clone();
             edit(&mut cfg);
+            // The file's camera follows its animation at the time the edits set.
+            super::gltf::animate_camera(&model, &camera, &mut cfg)?;
             let mut job = super::gltf::with_model(model, || build(cfg, path))?;
             job.warnings.splice(0..0, warnings);
             return Ok(job);
@@ -235,8 +238,10 @@ pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
         let open = plan.as_ref().map_or(0.0, |p| p.shutter.open);
         emitters.push(super::light_motion::wrap(em, motion, open));
     }
-    for (field, e) in &gltf_emitters {
-        emitters.push(emitters::emitter(e, file, field, range, &mut warnings)?);
+    for (field, e, motion) in gltf_emitters {
+        let em = emitters::emitter(&e, file, &field, range, &mut warnings)?;
+        let open = plan.as_ref().map_or(0.0, |p| p.shutter.open);
+        emitters.push(super::light_motion::wrap(em, motion, open));
     }
     if emitters.is_empty() {
         warnings.push(format!(

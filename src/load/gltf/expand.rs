@@ -50,8 +50,9 @@ pub struct Expanded {
     pub materials: Vec<Material>,
     /// The name of each of `materials` (for the sidecar and the material ids).
     pub material_names: Vec<String>,
-    /// Its KHR_lights_punctual lights (unless `lights: false`).
-    pub emitters: Vec<(String, EmitterConfig)>,
+    /// Its KHR_lights_punctual lights (unless `lights: false`), each with its motion while the
+    /// shutter is open under an animated node (`GltfLight::motion`).
+    pub emitters: Vec<(String, EmitterConfig, Option<crate::motion::Motion>)>,
 }
 
 /// Expands shape `sc` (a `ShapeKind::Gltf`), called `field` in errors, with paths relative to
@@ -295,6 +296,7 @@ pub fn expand(
             out.emitters.push((
                 format!("{field} ({} light {})", full.display(), l.name),
                 l.emitter.clone(),
+                l.motion.clone(),
             ));
         }
     }

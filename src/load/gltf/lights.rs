@@ -22,6 +22,7 @@ use crate::config::{
     SpectrumConfig, TransformOp,
 };
 use crate::error::InputError;
+use crate::motion::Motion;
 use crate::spectrum::color::cie1931;
 use crate::spectrum::Curve;
 use glam::{Mat4, Vec3, Vec4};
@@ -43,10 +44,14 @@ pub struct GltfCamera {
 pub struct GltfLight {
     pub name: String,
     pub emitter: EmitterConfig,
+    /// With an open shutter, under an animated node: the motion carrying `emitter` (then in
+    /// that node's frame) to the world, as a RON light's `animation` does
+    /// (`emitter::MovingLight`).
+    pub motion: Option<Motion>,
 }
 
 /// A row-major matrix op (the config's `Matrix`), exact for any Mat4.
-fn matrix_op(m: Mat4) -> TransformOp {
+pub(super) fn matrix_op(m: Mat4) -> TransformOp {
     TransformOp::Matrix(m.transpose().to_cols_array_2d())
 }
 
@@ -115,8 +120,19 @@ pub fn photometric_scale(color: [f32; 3], photometric: f32) -> f32 {
     (photometric as f64 / (LUMINOUS_EFFICACY as f64 * y)) as f32
 }
 
-pub fn light(l: &gltf::khr_lights_punctual::Light, world: Mat4) -> GltfLight {
+/// Light `l` at `world`; under an animated node with an open shutter, `moving` is that node's
+/// motion and the transform `below` it (world(t) = motion(t) · below), and the light is placed
+/// by `below` and carried by the motion.
+pub fn light(
+    l: &gltf::khr_lights_punctual::Light,
+    world: Mat4,
+    moving: Option<(Motion, Mat4)>,
+) -> GltfLight {
     use gltf::khr_lights_punctual::Kind;
+    let (world, motion) = match moving {
+        Some((m, below)) => (below, Some(m)),
+        None => (world, None),
+    };
     let name = l
         .name()
         .map_or_else(|| format!("light{}", l.index()), str::to_owned);
@@ -161,7 +177,11 @@ pub fn light(l: &gltf::khr_lights_punctual::Light, world: Mat4) -> GltfLight {
             animation: None,
         },
     };
-    GltfLight { name, emitter }
+    GltfLight {
+        name,
+        emitter,
+        motion,
+    }
 }
 
 /// The scene `prism render model.gltf` renders: the model, its first camera (or one

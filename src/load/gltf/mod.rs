@@ -10,6 +10,7 @@
 
 mod accessors;
 mod animation;
+mod camera;
 mod checks;
 mod colors;
 mod emission;
@@ -26,8 +27,9 @@ use serde_json::Value;
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
+pub use camera::animate as animate_camera;
 pub use expand::{expand, Expanded, ExpandedShape, MatRef, When};
-pub use lights::{scene_config, scene_for, GltfCamera, GltfLight};
+pub use lights::{photometric_scale, scene_config, scene_for, GltfCamera, GltfLight};
 pub use materials::dispersion_abbe;
 pub use nodes::{walk, Primitive, Walk};
 
@@ -349,7 +351,11 @@ pub(super) fn add_shapes(
     emitters: &mut Vec<crate::emitter::Emitter>,
     shape_name: &mut Vec<Option<String>>,
     material_names: &mut Vec<String>,
-    punctual: &mut Vec<(String, crate::config::EmitterConfig)>,
+    punctual: &mut Vec<(
+        String,
+        crate::config::EmitterConfig,
+        Option<crate::motion::Motion>,
+    )>,
     moving: &mut Vec<(u32, crate::motion::Motion)>,
 ) {
     let first = materials.len() as u32;

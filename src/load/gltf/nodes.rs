@@ -190,7 +190,8 @@ pub fn walk_timed(
             w.cameras.push(lights::camera(&cam, world, node.name()));
         }
         if let Some(light) = node.light() {
-            w.lights.push(lights::light(&light, world));
+            let moving = chain.as_ref().map(|c| (c.motion.clone(), c.below));
+            w.lights.push(lights::light(&light, world, moving));
         }
         if let Some(mesh) = node.mesh() {
             w.mesh_instances += 1;
