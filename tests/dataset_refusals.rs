@@ -271,19 +271,29 @@ fn every_example_config_checks() {
 
 /// A tiny video dataset (configs/datasets/sequence.ron: 2 sequences of 2 frames, 16×12 at
 /// 1 spp) on `dir`/base.ron, the tabletop with `scene` applied, and `edit` on the config.
-fn sequence(dir: &std::path::Path, scene: &dyn Fn(String) -> String, edit: &dyn Fn(String) -> String) -> std::path::PathBuf {
+fn sequence(
+    dir: &std::path::Path,
+    scene: &dyn Fn(String) -> String,
+    edit: &dyn Fn(String) -> String,
+) -> std::path::PathBuf {
     std::fs::write(dir.join("base.ron"), scene(tabletop())).unwrap();
     let ds = root().join("configs/datasets");
     let text = std::fs::read_to_string(ds.join("sequence.ron"))
         .unwrap()
-        .replace("\"scenes/tabletop.ron\"", &format!("{:?}", dir.join("base.ron")))
+        .replace(
+            "\"scenes/tabletop.ron\"",
+            &format!("{:?}", dir.join("base.ron")),
+        )
         .replace(
             "\"../../scenes/textures/sky.exr\"",
             &format!("{:?}", root().join("scenes/textures/sky.exr")),
         )
         .replace("sequences: 3", "sequences: 2")
         .replace("frames_per_sequence: 8", "frames_per_sequence: 2")
-        .replace("spp: 8, resolution: (96, 72)", "spp: 1, resolution: (16, 12)");
+        .replace(
+            "spp: 8, resolution: (96, 72)",
+            "spp: 1, resolution: (16, 12)",
+        );
     let p = dir.join("dataset.ron");
     std::fs::write(&p, edit(text)).unwrap();
     p
@@ -314,18 +324,36 @@ fn frames_whose_scene_the_render_would_refuse_are_refused_at_check() {
         )
     };
     let open = |t: String| t.replace("objects: [(shapes", "shutter: 0.5, objects: [(shapes");
-    let cases: [(&str, &dyn Fn(String) -> String, &dyn Fn(String) -> String, &[&str]); 2] = [
+    let cases: [(
+        &str,
+        &dyn Fn(String) -> String,
+        &dyn Fn(String) -> String,
+        &[&str],
+    ); 2] = [
         (
             "shear",
             &sheared,
             &|t| t,
-            &["dataset.ron", "motion.objects[0]", "base.ron", "shapes[4].animation", "shears", "frame 0"],
+            &[
+                "dataset.ron",
+                "motion.objects[0]",
+                "base.ron",
+                "shapes[4].animation",
+                "shears",
+                "frame 0",
+            ],
         ),
         (
             "caustics",
             &caustics,
             &open,
-            &["dataset.ron", "motion.shutter", "base.ron", "integrator.caustics", "open shutter"],
+            &[
+                "dataset.ron",
+                "motion.shutter",
+                "base.ron",
+                "integrator.caustics",
+                "open shutter",
+            ],
         ),
     ];
     for (name, scene, edit, needles) in cases {
@@ -344,7 +372,12 @@ fn frames_whose_scene_the_render_would_refuse_are_refused_at_check() {
             &format!("(name: \"tri\", shape: Gltf(path: {tri:?}), material: \"metal\", to_world: [Scale((0.2, 0.2, 0.2)), Translate((0.3, 0.9, 0.3))]),\n        (name: \"bead\""),
         )
     };
-    let moved = |t: String| open(t).replace("shapes: [\"ball\", \"box\"], speed", "shapes: [\"ball\", \"tri\"], speed");
+    let moved = |t: String| {
+        open(t).replace(
+            "shapes: [\"ball\", \"box\"], speed",
+            "shapes: [\"ball\", \"tri\"], speed",
+        )
+    };
     let cfg = sequence(&dir, &nested, &moved);
     let out = dir.join("nested");
     ok(&dataset(&cfg, &out, &["--check"]));

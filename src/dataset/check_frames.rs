@@ -37,7 +37,14 @@ fn structure(s: &SceneConfig) -> String {
     let shapes: Vec<Value> = s
         .shapes
         .iter()
-        .map(|x| json!([x.shape, x.animation.is_some(), x.emitter.is_some(), x.flip_normals]))
+        .map(|x| {
+            json!([
+                x.shape,
+                x.animation.is_some(),
+                x.emitter.is_some(),
+                x.flip_normals
+            ])
+        })
         .collect();
     let lights: Vec<Value> = s
         .emitters
@@ -49,9 +56,20 @@ fn structure(s: &SceneConfig) -> String {
             json!([kind, moving.is_some_and(|m| !m.is_null())])
         })
         .collect();
-    let open = s.camera.shutter.is_some_and(|sh| sh.close > sh.open || sh.readout > 0.0);
+    let open = s
+        .camera
+        .shutter
+        .is_some_and(|sh| sh.close > sh.open || sh.readout > 0.0);
     let camera = (s.camera.animation.is_some(), s.camera.fps.is_some());
-    json!([shapes, lights, open, camera, s.aovs, s.integrator.caustics.is_some()]).to_string()
+    json!([
+        shapes,
+        lights,
+        open,
+        camera,
+        s.aovs,
+        s.integrator.caustics.is_some()
+    ])
+    .to_string()
 }
 
 /// The error of frame `i`'s scene `scene` as the dataset's: the field of the config that made
@@ -96,10 +114,18 @@ fn cause(base: &Base, scene: &SceneConfig, e: &InputError) -> String {
         })
         .and_then(|k| scene.shapes.get(k));
     if let Some(name) = shape.and_then(|s| s.name.as_deref()) {
-        if let Some(j) = motion.objects.iter().position(|o| o.shapes.iter().any(|n| n == name)) {
+        if let Some(j) = motion
+            .objects
+            .iter()
+            .position(|o| o.shapes.iter().any(|n| n == name))
+        {
             return format!("motion.objects[{j}]");
         }
-        if let Some(j) = motion.lights.iter().position(|l| l.targets.iter().any(|n| n == name)) {
+        if let Some(j) = motion
+            .lights
+            .iter()
+            .position(|l| l.targets.iter().any(|n| n == name))
+        {
             return format!("motion.lights[{j}]");
         }
         if base.assets.iter().any(|a| a.name == name) {
@@ -108,7 +134,11 @@ fn cause(base: &Base, scene: &SceneConfig, e: &InputError) -> String {
     }
     if let Some(k) = index("emitters[") {
         let target = format!("emitters[{k}]");
-        if let Some(j) = motion.lights.iter().position(|l| l.targets.contains(&target)) {
+        if let Some(j) = motion
+            .lights
+            .iter()
+            .position(|l| l.targets.contains(&target))
+        {
             return format!("motion.lights[{j}]");
         }
     }

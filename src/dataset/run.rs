@@ -116,7 +116,9 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     // frame that fails while the run goes on (exit 1).
     // (--export-frame writes the frame's scene as drawn, to see why it is refused.)
     if opts.export_frame.is_some() {
-        frames.iter().try_for_each(|&i| plan::plan(&base, i).map(drop))?;
+        frames
+            .iter()
+            .try_for_each(|&i| plan::plan(&base, i).map(drop))?;
     } else {
         super::check_frames::check(&base, &frames)?;
     }

@@ -56,7 +56,12 @@ impl NodeTracks {
     }
 }
 
-pub(super) fn err(path: &Path, field: String, message: impl Into<String>, hint: &str) -> InputError {
+pub(super) fn err(
+    path: &Path,
+    field: String,
+    message: impl Into<String>,
+    hint: &str,
+) -> InputError {
     InputError::new(path, message).field(field).hint(hint)
 }
 
