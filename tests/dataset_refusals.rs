@@ -269,6 +269,9 @@ fn every_example_config_checks() {
     assert!(n >= 3, "{n} example configs");
 }
 
+/// An edit of a file's text.
+type Edit = dyn Fn(String) -> String;
+
 /// A tiny video dataset (configs/datasets/sequence.ron: 2 sequences of 2 frames, 16×12 at
 /// 1 spp) on `dir`/base.ron, the tabletop with `scene` applied, and `edit` on the config.
 fn sequence(
@@ -324,12 +327,7 @@ fn frames_whose_scene_the_render_would_refuse_are_refused_at_check() {
         )
     };
     let open = |t: String| t.replace("objects: [(shapes", "shutter: 0.5, objects: [(shapes");
-    let cases: [(
-        &str,
-        &dyn Fn(String) -> String,
-        &dyn Fn(String) -> String,
-        &[&str],
-    ); 2] = [
+    let cases: [(&str, &Edit, &Edit, &[&str]); 2] = [
         (
             "shear",
             &sheared,
