@@ -40,16 +40,6 @@ pub struct Parent {
     pub offset: Mat4,
 }
 
-impl Parent {
-    /// parent(t) · offset · `own`: out of line, so a single track's `matrix` (the common,
-    /// per-ray case) compiles as it did before chains.
-    #[cold]
-    #[inline(never)]
-    fn carry(&self, t: f32, own: Mat4) -> Mat4 {
-        self.motion.matrix(t) * self.offset * own
-    }
-}
-
 impl Motion {
     /// One track of translation, rotation and scale keys.
     pub fn trs(translation: Track<Vec3>, rotation: Track<Quat>, scale: Track<Vec3>) -> Motion {
@@ -96,9 +86,7 @@ impl Motion {
     }
 
     /// The transform at time `t`: T · R · S, under the parent's (parent · offset · T · R · S).
-    // Always inlined, as it was before chains made it branch: the per-ray callers
-    // (`Timing::moved`, `accel::moving`) then compile as they did.
-    #[inline(always)]
+    #[inline]
     pub fn matrix(&self, t: f32) -> Mat4 {
         let own = Mat4::from_scale_rotation_translation(
             self.scale.at(t),
@@ -107,7 +95,7 @@ impl Motion {
         );
         match &self.parent {
             None => own,
-            Some(p) => p.carry(t, own),
+            Some(p) => p.motion.matrix(t) * p.offset * own,
         }
     }
 
