@@ -1,5 +1,6 @@
 //! `prism dataset` refusals and warnings: bad input refused (exit 2) before any frame renders,
-//! a changed input refuses the resume, and `--check` reports what `prism render` warns about.
+//! a frame's scene that its render would refuse refused at `--check` (issue 30), a changed
+//! input refuses the resume, and `--check` reports what `prism render` warns about.
 
 mod dataset_util;
 use dataset_util::*;
@@ -266,4 +267,119 @@ fn every_example_config_checks() {
         }
     }
     assert!(n >= 3, "{n} example configs");
+}
+
+/// An edit of a file's text.
+type Edit = dyn Fn(String) -> String;
+
+/// A tiny video dataset (configs/datasets/sequence.ron: 2 sequences of 2 frames, 16×12 at
+/// 1 spp) on `dir`/base.ron, the tabletop with `scene` applied, and `edit` on the config.
+fn sequence(
+    dir: &std::path::Path,
+    scene: &dyn Fn(String) -> String,
+    edit: &dyn Fn(String) -> String,
+) -> std::path::PathBuf {
+    std::fs::write(dir.join("base.ron"), scene(tabletop())).unwrap();
+    let ds = root().join("configs/datasets");
+    let text = std::fs::read_to_string(ds.join("sequence.ron"))
+        .unwrap()
+        .replace(
+            "\"scenes/tabletop.ron\"",
+            &format!("{:?}", dir.join("base.ron")),
+        )
+        .replace(
+            "\"../../scenes/textures/sky.exr\"",
+            &format!("{:?}", root().join("scenes/textures/sky.exr")),
+        )
+        .replace("sequences: 3", "sequences: 2")
+        .replace("frames_per_sequence: 8", "frames_per_sequence: 2")
+        .replace(
+            "spp: 8, resolution: (96, 72)",
+            "spp: 1, resolution: (16, 12)",
+        );
+    let p = dir.join("dataset.ron");
+    std::fs::write(&p, edit(text)).unwrap();
+    p
+}
+
+/// A frame's scene that its render would refuse is refused at `--check` and before the first
+/// frame of a run (exit 2, naming the dataset's field, the scene's file and field and the fix;
+/// no output folder), not frame by frame while the run goes on (exit 1). The cases: a moving
+/// object whose keys would shear (its base transform scales after it rotates, so the spin
+/// about +y makes a shear: `motion.objects[0]`), and an open shutter on a scene with caustic
+/// light tracing (`motion.shutter`). And a glTF model with its own node animation moved by
+/// `motion.objects` (nested motion, issue 30 item 2) is not refused: it renders, exit 0.
+#[test]
+fn frames_whose_scene_the_render_would_refuse_are_refused_at_check() {
+    let dir = workdir("frame-check");
+    let sheared = |t: String| {
+        let from = "Scale((0.12, 0.12, 0.12)), Translate((0.3, 0.87, -0.2))";
+        assert!(t.contains(from));
+        t.replace(
+            from,
+            "Rotate(axis: (0, 0, 1), angle: 30), Scale((0.2, 0.1, 0.1)), Translate((0.3, 0.87, -0.2))",
+        )
+    };
+    let caustics = |t: String| {
+        t.replace(
+            "integrator: (max_depth: 6)",
+            "integrator: (max_depth: 6, caustics: (light_paths: 1000))",
+        )
+    };
+    let open = |t: String| t.replace("objects: [(shapes", "shutter: 0.5, objects: [(shapes");
+    let cases: [(&str, &Edit, &Edit, &[&str]); 2] = [
+        (
+            "shear",
+            &sheared,
+            &|t| t,
+            &[
+                "dataset.ron",
+                "motion.objects[0]",
+                "base.ron",
+                "shapes[4].animation",
+                "shears",
+                "frame 0",
+            ],
+        ),
+        (
+            "caustics",
+            &caustics,
+            &open,
+            &[
+                "dataset.ron",
+                "motion.shutter",
+                "base.ron",
+                "integrator.caustics",
+                "open shutter",
+            ],
+        ),
+    ];
+    for (name, scene, edit, needles) in cases {
+        let cfg = sequence(&dir, scene, edit);
+        for args in [&["--check"][..], &[]] {
+            let out = dir.join(format!("{name}{}", args.len()));
+            refused(&dataset(&cfg, &out, args), needles);
+            assert!(!out.exists(), "{name} {args:?}: the output folder was made");
+        }
+    }
+    // Nested motion: AnimatedTriangle (node animation) moved by motion.objects, flow layers on.
+    let tri = root().join("tests/data/gltf/AnimatedTriangle.gltf");
+    let nested = |t: String| {
+        t.replace(
+            "(name: \"bead\"",
+            &format!("(name: \"tri\", shape: Gltf(path: {tri:?}), material: \"metal\", to_world: [Scale((0.2, 0.2, 0.2)), Translate((0.3, 0.9, 0.3))]),\n        (name: \"bead\""),
+        )
+    };
+    let moved = |t: String| {
+        open(t).replace(
+            "shapes: [\"ball\", \"box\"], speed",
+            "shapes: [\"ball\", \"tri\"], speed",
+        )
+    };
+    let cfg = sequence(&dir, &nested, &moved);
+    let out = dir.join("nested");
+    ok(&dataset(&cfg, &out, &["--check"]));
+    ok(&dataset(&cfg, &out, &[]));
+    assert_eq!(manifest(&out), vec![0, 1, 2, 3]);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -323,3 +323,52 @@ fn gltf_models_flow_by_their_closed_form() {
     }
     assert!(on > 20, "{on} pixels on the triangle");
 }
+
+/// Flow of nested motion: Khronos' AnimatedTriangle (its node turning 360° per second about
+/// +z through the node's origin) moved by the shape's own RON keys, which slide it from
+/// x = −2 to 2 over [0, 1] s (scaled 2, at y = −0.5): world(t) = RON(t) · node(t). A point
+/// p seen at t = 0.3 is one 0.1 s step later at c' + R_z(36°)(p − c), c = (−2 + 4t, −0.5)
+/// the node's origin then (c' = c + (0.4, 0)), so its flow is that displacement in pixels
+/// (dx, −dy)·W/8, from the `position` layer's p. Tolerance 1e-3 px, as above.
+#[test]
+fn nested_gltf_motion_flows_by_its_closed_form() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tri = data.join("scenes/motion/AnimatedTriangle.gltf");
+    let shape = format!(
+        r#"(shape: Gltf(path: {tri:?}), animation: (keys: [
+        (time: 0, to_world: [Scale((2, 2, 2)), Translate((-2, -0.5, 0))]),
+        (time: 1, to_world: [Scale((2, 2, 2)), Translate((2, -0.5, 0))])]))"#
+    );
+    let f = layers(&scene(
+        0.3,
+        r#""flow_forward", "position", "instance""#,
+        &shape,
+    ));
+    let ch = |n: &str| f.channel(n).unwrap_or_else(|| panic!("{n}")).to_vec();
+    let (fx, fy, x, y) = (
+        ch("flow_forward.X"),
+        ch("flow_forward.Y"),
+        ch("position.X"),
+        ch("position.Y"),
+    );
+    let id = ids(&f);
+    let (s, c) = 36f32.to_radians().sin_cos();
+    let centre = (-2.0 + 4.0 * 0.3f32, -0.5f32);
+    let mut on = 0;
+    for i in 0..(W * H) as usize {
+        if id[i] == 0 {
+            continue;
+        }
+        on += 1;
+        let (px, py) = (x[i] - centre.0, y[i] - centre.1);
+        let (dx, dy) = (c * px - s * py - px + 0.4, s * px + c * py - py);
+        let (want_x, want_y) = (dx * W as f32 / 8.0, -dy * W as f32 / 8.0);
+        assert!(
+            (fx[i] - want_x).abs() < 1e-3 && (fy[i] - want_y).abs() < 1e-3,
+            "triangle pixel {i}: flow ({}, {}), closed form ({want_x}, {want_y})",
+            fx[i],
+            fy[i]
+        );
+    }
+    assert!(on > 20, "{on} pixels on the triangle");
+}

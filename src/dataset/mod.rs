@@ -9,6 +9,7 @@ pub mod apply;
 pub mod asset_folder;
 pub mod assets;
 pub mod base;
+pub mod check_frames;
 pub mod cli;
 pub mod config;
 pub mod digits;

@@ -111,9 +111,16 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         )?,
         None => selection(&base, opts)?,
     };
-    // Every frame's draws are checked (placement, keep-in-view) before any renders.
-    for &i in &frames {
-        plan::plan(&base, i)?;
+    // Every frame's draws are checked (placement, keep-in-view), and its scene built once per
+    // structure, before any renders or the folder is claimed: bad input is exit 2 here, not a
+    // frame that fails while the run goes on (exit 1).
+    // (--export-frame writes the frame's scene as drawn, to see why it is refused.)
+    if opts.export_frame.is_some() {
+        frames
+            .iter()
+            .try_for_each(|&i| plan::plan(&base, i).map(drop))?;
+    } else {
+        super::check_frames::check(&base, &frames)?;
     }
     let mut out = Out::new(out.to_path_buf(), opts.verify);
     // A line of a frame the dataset does not have (frame 99 of 6) is not a finished frame.

@@ -119,6 +119,7 @@ mod tests {
                 Quat::from_rotation_x(3.0) * Quat::from_rotation_y(0.8),
             ]),
             scale: track(vec![Vec3::new(0.5, 0.3, 0.8), Vec3::new(0.2, 0.6, 0.4)]),
+            parent: None,
         }
     }
 

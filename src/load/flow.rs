@@ -89,11 +89,11 @@ pub fn setup(cfg: &SceneConfig, file: &Path) -> Result<Option<FlowScene>, InputE
         .hint("animate the camera or a shape (camera.animation, shapes[i].animation), or remove the flow layers; a still scene's flow is 0 everywhere"));
     }
     // The keys' span over every animation: a neighbouring frame outside it has no motion.
+    // (A chained motion's span is its every track's: `Motion::key_span`.)
     let (lo, hi) = camera
         .into_iter()
         .chain(shapes)
-        .flat_map(|m| [&m.translation.times, &m.rotation.times, &m.scale.times])
-        .filter_map(|ts| Some((*ts.first()?, *ts.last()?)))
+        .filter_map(Motion::key_span)
         .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), (a, b)| {
             (lo.min(a), hi.max(b))
         });

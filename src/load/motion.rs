@@ -241,6 +241,7 @@ pub(super) fn motion(
             tangents: if cubic { rot_tangents } else { Vec::new() },
             interp,
         },
+        parent: None,
     })
 }
 

@@ -2,7 +2,10 @@
 //!
 //! A `Motion` is three tracks, translation, rotation and scale, each with its own keys (glTF
 //! animates them separately; a RON key sets all three). At time t the transform is
-//! T(t) · R(t) · S(t). A scene whose shutter is an instant is built with every transform
+//! T(t) · R(t) · S(t). A node moving under a moving node (a glTF node animated under another,
+//! or under the shape's own RON animation) is a chain: its `parent` motion, the static
+//! transforms between the two, then its own track, parent(t) · offset · T(t) · R(t) · S(t);
+//! one track (`parent` None) costs one branch more. A scene whose shutter is an instant is built with every transform
 //! evaluated there and renders as a static scene does; only a shutter that stays open makes
 //! the renderer trace moving objects per ray (`accel::moving`).
 
@@ -25,16 +28,75 @@ pub struct Motion {
     pub translation: Track<Vec3>,
     pub rotation: Track<Quat>,
     pub scale: Track<Vec3>,
+    /// The moving transform above this one (None: a single track). Boxed: a chain is rare,
+    /// and a single track stays small.
+    pub parent: Option<Box<Parent>>,
+}
+
+/// A motion's moving parent and the static transforms between the two.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parent {
+    pub motion: Motion,
+    pub offset: Mat4,
 }
 
 impl Motion {
-    /// The transform at time `t`: T · R · S.
+    /// One track of translation, rotation and scale keys.
+    pub fn trs(translation: Track<Vec3>, rotation: Track<Quat>, scale: Track<Vec3>) -> Motion {
+        Motion {
+            translation,
+            rotation,
+            scale,
+            parent: None,
+        }
+    }
+
+    /// A motion that holds the identity (the root of a chain under static transforms).
+    pub fn still() -> Motion {
+        Motion::trs(
+            Track::constant(Vec3::ZERO),
+            Track::constant(Quat::IDENTITY),
+            Track::constant(Vec3::ONE),
+        )
+    }
+
+    /// `self` carried by `parent` through the static `offset`: parent(t) · offset · self(t).
+    /// `self`'s own parent, if any, is replaced (callers chain a single track).
+    pub fn under(self, parent: Motion, offset: Mat4) -> Motion {
+        Motion {
+            parent: Some(Box::new(Parent {
+                motion: parent,
+                offset,
+            })),
+            ..self
+        }
+    }
+
+    /// This motion and its moving parents, innermost first.
+    pub fn chain(&self) -> impl Iterator<Item = &Motion> {
+        std::iter::successors(Some(self), |m| m.parent.as_deref().map(|p| &p.motion))
+    }
+
+    /// The first and last key time of every track of the chain (None: no keys).
+    pub fn key_span(&self) -> Option<(f32, f32)> {
+        self.chain()
+            .flat_map(|m| [&m.translation.times, &m.rotation.times, &m.scale.times])
+            .filter_map(|ts| Some((*ts.first()?, *ts.last()?)))
+            .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+    }
+
+    /// The transform at time `t`: T · R · S, under the parent's (parent · offset · T · R · S).
+    #[inline]
     pub fn matrix(&self, t: f32) -> Mat4 {
-        Mat4::from_scale_rotation_translation(
+        let own = Mat4::from_scale_rotation_translation(
             self.scale.at(t),
             self.rotation.at(t),
             self.translation.at(t),
-        )
+        );
+        match &self.parent {
+            None => own,
+            Some(p) => p.motion.matrix(t) * p.offset * own,
+        }
     }
 
     /// The transform at time `t` with its inverse (None where a scale passes through 0).
@@ -43,15 +105,14 @@ impl Motion {
     }
 
     /// The instants `bounds` and the loader's checks sample on [t0, t1]: every key inside it
-    /// and `STEPS` evenly spaced ones per key interval (and over the whole span).
+    /// and `STEPS` evenly spaced ones per key interval (and over the whole span), of every
+    /// track of the chain.
     pub fn samples(&self, t0: f32, t1: f32) -> Vec<f32> {
         const STEPS: usize = 64;
         let mut ts = vec![t0, t1];
-        let tracks = [
-            &self.translation.times,
-            &self.rotation.times,
-            &self.scale.times,
-        ];
+        let tracks = self
+            .chain()
+            .flat_map(|m| [&m.translation.times, &m.rotation.times, &m.scale.times]);
         for times in tracks {
             ts.extend(times.iter().copied().filter(|&t| t > t0 && t < t1));
             for w in times.windows(2) {
@@ -188,16 +249,16 @@ mod tests {
             tangents: Vec::new(),
             interp: Interp::Linear,
         };
-        Motion {
-            translation: tr(d.iter().map(|k| k.2).collect()),
-            rotation: Track {
+        Motion::trs(
+            tr(d.iter().map(|k| k.2).collect()),
+            Track {
                 times: times.clone(),
                 values: d.iter().map(|k| k.1).collect(),
                 tangents: Vec::new(),
                 interp: Interp::Linear,
             },
-            scale: tr(d.iter().map(|k| k.0).collect()),
-        }
+            tr(d.iter().map(|k| k.0).collect()),
+        )
     }
 
     /// A point on a spinning, sliding object: the closed form at the middle time (1e-5).

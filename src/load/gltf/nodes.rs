@@ -85,7 +85,8 @@ pub struct Timed<'a> {
     pub root: Option<crate::motion::Motion>,
 }
 
-/// An animated node's subtree with an open shutter: world(t) = motion(t) · below.
+/// An animated node's subtree with an open shutter: world(t) = motion(t) · below (`motion` a
+/// chain where animated nodes nest).
 #[derive(Clone)]
 struct Chain {
     motion: crate::motion::Motion,
@@ -158,28 +159,20 @@ pub fn walk_timed(
         }
         let world = parent * local;
         if let Some(tr) = tracks.filter(|_| timed.open) {
-            if chain.is_some() {
-                return Err(InputError::new(
-                    path,
-                    "this animated node lies under another moving node (or the shape's own animation); nested motion cannot be traced while the shutter is open",
-                )
-                .field(&field)
-                .hint("render instants (prism render --time T, or shutter open = close), or animate one node of each branch"));
-            }
-            {
-                let motion = super::animation::fold(parent, tr.motion(&node)).ok_or_else(|| {
-                    InputError::new(
-                        path,
-                        "an animated node under a parent that scales unevenly, shears or mirrors cannot move while the shutter is open",
-                    )
-                    .field(&field)
-                    .hint("render instants (prism render --time T, or shutter open = close), or give its parents uniform scales")
-                })?;
-                chain = Some(Chain {
-                    motion,
-                    below: Mat4::IDENTITY,
-                });
-            }
+            let own = tr.motion(&node);
+            let motion = match chain.take() {
+                // Under a moving node (or the shape's own animation): a chain, parent(t) ·
+                // the static nodes between · own(t).
+                Some(c) => own.under(c.motion, c.below),
+                // Under static nodes: one track where they fold into it (rotation,
+                // translation, uniform scale), else a chain under them.
+                None => super::animation::fold(parent, own.clone())
+                    .unwrap_or_else(|| own.under(crate::motion::Motion::still(), parent)),
+            };
+            chain = Some(Chain {
+                motion,
+                below: Mat4::IDENTITY,
+            });
         } else if let Some(c) = &mut chain {
             c.below *= local;
         }

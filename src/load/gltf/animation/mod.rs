@@ -3,15 +3,18 @@
 //! the first, or the one the shape names (`Gltf(animation: "Walk")`, or its index, `"1"`).
 //! Morph target `weights` channels and skins are not read (a warning says so).
 //!
-//! The JSON is checked first (`check_json`): the gltf crate's reader assumes each sampler's
-//! accessors have the right type and count and would panic, or read garbage, otherwise.
+//! The JSON is checked first (`check_json`, in `json`): the gltf crate's reader assumes each
+//! sampler's accessors have the right type and count and would panic, or read garbage,
+//! otherwise.
 
 use crate::error::InputError;
 use crate::motion::{Interp, Motion, Track};
 use glam::{Mat4, Quat, Vec3};
-use serde_json::Value;
 use std::collections::HashMap;
 use std::path::Path;
+
+mod json;
+pub use json::check_json;
 
 /// One animation's tracks, per animated node.
 pub struct Clip {
@@ -43,6 +46,7 @@ impl NodeTracks {
                 .scale
                 .clone()
                 .unwrap_or_else(|| Track::constant(Vec3::from(s))),
+            parent: None,
         }
     }
 
@@ -52,166 +56,17 @@ impl NodeTracks {
     }
 }
 
-fn err(path: &Path, field: String, message: impl Into<String>, hint: &str) -> InputError {
+pub(super) fn err(
+    path: &Path,
+    field: String,
+    message: impl Into<String>,
+    hint: &str,
+) -> InputError {
     InputError::new(path, message).field(field).hint(hint)
 }
 
-const REEXPORT: &str =
+pub(super) const REEXPORT: &str =
     "re-export the animation (glTF 2.0 §3.11), or check the file with the Khronos glTF validator";
-
-/// Checks every animation's samplers and channels in the raw JSON: indices in range, input
-/// accessors SCALAR floats, outputs of the channel's type (VEC3, VEC4 rotations of floats or
-/// normalised integers), and as many outputs as inputs (three times as many, CUBICSPLINE).
-pub fn check_json(path: &Path, json: &Value) -> Result<(), InputError> {
-    let list = |k: &str| json.get(k).and_then(Value::as_array).cloned();
-    let accessors = list("accessors").unwrap_or_default();
-    let nodes = list("nodes").map_or(0, |n| n.len());
-    for (a, anim) in list("animations").unwrap_or_default().iter().enumerate() {
-        let at = format!("animations[{a}]");
-        let samplers = anim
-            .get("samplers")
-            .and_then(Value::as_array)
-            .cloned()
-            .unwrap_or_default();
-        let channels = anim.get("channels").and_then(Value::as_array);
-        for (c, ch) in channels.into_iter().flatten().enumerate() {
-            let cf = format!("{at}.channels[{c}]");
-            let target = ch.get("target");
-            let prop = target
-                .and_then(|t| t.get("path"))
-                .and_then(Value::as_str)
-                .unwrap_or("");
-            if let Some(n) = target.and_then(|t| t.get("node")) {
-                if n.as_u64().is_none_or(|k| k as usize >= nodes) {
-                    return Err(err(
-                        path,
-                        format!("{cf}.target.node"),
-                        format!("node {n} does not exist (the file has {nodes})"),
-                        REEXPORT,
-                    ));
-                }
-            }
-            let s = ch.get("sampler").and_then(Value::as_u64);
-            let Some(sampler) = s.and_then(|k| samplers.get(k as usize)) else {
-                return Err(err(
-                    path,
-                    format!("{cf}.sampler"),
-                    format!(
-                        "sampler {} does not exist (the animation has {})",
-                        s.map_or("(none)".into(), |s| s.to_string()),
-                        samplers.len()
-                    ),
-                    REEXPORT,
-                ));
-            };
-            let sf = format!("{at}.samplers[{}]", s.unwrap_or(0));
-            let input = accessor(
-                path,
-                &accessors,
-                sampler.get("input"),
-                format!("{sf}.input"),
-            )?;
-            let output = accessor(
-                path,
-                &accessors,
-                sampler.get("output"),
-                format!("{sf}.output"),
-            )?;
-            let ty = |a: &Value| {
-                a.get("type")
-                    .and_then(Value::as_str)
-                    .unwrap_or("")
-                    .to_owned()
-            };
-            let comp = |a: &Value| a.get("componentType").and_then(Value::as_u64).unwrap_or(0);
-            let count = |a: &Value| a.get("count").and_then(Value::as_u64).unwrap_or(0);
-            if ty(input) != "SCALAR" || comp(input) != 5126 {
-                return Err(err(
-                    path,
-                    format!("{sf}.input"),
-                    format!(
-                        "a sampler's input (its key times) must be a SCALAR float accessor, not {} of component type {}",
-                        ty(input),
-                        comp(input)
-                    ),
-                    REEXPORT,
-                ));
-            }
-            let (want, comps): (&str, &[u64]) = match prop {
-                "translation" | "scale" => ("VEC3", &[5126]),
-                "rotation" => ("VEC4", &[5126, 5120, 5121, 5122, 5123]),
-                "weights" => ("SCALAR", &[5126, 5120, 5121, 5122, 5123]),
-                _ => continue, // the crate refuses unknown paths itself
-            };
-            if ty(output) != want || !comps.contains(&comp(output)) {
-                return Err(err(
-                    path,
-                    format!("{sf}.output"),
-                    format!(
-                        "a {prop} channel's output must be a {want} accessor of {}, not {} of component type {}",
-                        if comps.len() > 1 { "floats or normalised integers" } else { "floats" },
-                        ty(output),
-                        comp(output)
-                    ),
-                    REEXPORT,
-                ));
-            }
-            if prop == "weights" {
-                continue; // not read: any multiple of the targets' count
-            }
-            let per = match sampler.get("interpolation").and_then(Value::as_str) {
-                Some("CUBICSPLINE") => 3,
-                _ => 1,
-            };
-            if count(input) == 0 || count(output) != per * count(input) {
-                return Err(err(
-                    path,
-                    format!("{sf}.output"),
-                    format!(
-                        "the sampler has {} key times but {} outputs; a {} sampler needs {}",
-                        count(input),
-                        count(output),
-                        if per == 3 {
-                            "CUBICSPLINE"
-                        } else {
-                            "LINEAR or STEP"
-                        },
-                        if per == 3 {
-                            "three per key (in-tangent, value, out-tangent)"
-                        } else {
-                            "one per key"
-                        }
-                    ),
-                    REEXPORT,
-                ));
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Accessor `v` (an index) of `accessors`, or an error naming `field`.
-fn accessor<'a>(
-    path: &Path,
-    accessors: &'a [Value],
-    v: Option<&Value>,
-    field: String,
-) -> Result<&'a Value, InputError> {
-    v.and_then(Value::as_u64)
-        .and_then(|k| accessors.get(k as usize))
-        .ok_or_else(|| {
-            err(
-                path,
-                field,
-                format!(
-                    "the accessor {} does not exist (the file has {})",
-                    v.map_or("(none)".into(), |v| v.to_string()),
-                    accessors.len()
-                ),
-                REEXPORT,
-            )
-        })
-}
 
 /// The animation `select` names (a name, or an index as text), else the first; None if the
 /// file has none. Warnings for what is not read go to `warnings`.
@@ -407,8 +262,12 @@ fn track<T: crate::motion::keyframes::Key>(
 /// `m` seen from a static parent `above`: above · m(t) as one motion, exact when `above` is
 /// a rotation, translation and uniform scale (every interpolation is then carried through:
 /// translation keys and tangents are mapped affinely and linearly, rotations multiplied on
-/// the left, scales scaled). None for a parent that scales unevenly, shears or mirrors.
+/// the left, scales scaled). None for a parent that scales unevenly, shears or mirrors (the
+/// caller then chains it: `Motion::under`), and for a motion that is already a chain.
 pub fn fold(above: Mat4, m: Motion) -> Option<Motion> {
+    if m.parent.is_some() {
+        return None;
+    }
     let (s, r, _) = above.to_scale_rotation_translation();
     let k = s.x;
     let uniform = k > 0.0 && (s - Vec3::splat(k)).abs().max_element() <= 1e-4 * k;
@@ -430,6 +289,7 @@ pub fn fold(above: Mat4, m: Motion) -> Option<Motion> {
         mut translation,
         mut rotation,
         mut scale,
+        ..
     } = m;
     translation
         .values
@@ -449,9 +309,5 @@ pub fn fold(above: Mat4, m: Motion) -> Option<Motion> {
         .tangents
         .iter_mut()
         .for_each(|(a, b)| (*a, *b) = (*a * k, *b * k));
-    Some(Motion {
-        translation,
-        rotation,
-        scale,
-    })
+    Some(Motion::trs(translation, rotation, scale))
 }
