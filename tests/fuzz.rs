@@ -14,8 +14,10 @@
 
 #[path = "../examples/fuzz/engine/mod.rs"]
 mod engine;
+mod scratch;
 
 use engine::{Verdict, LIMITS};
+use scratch::{scratch, Scratch};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -27,14 +29,14 @@ fn bin() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_prism"))
 }
 
-fn work(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("prism-fuzz-{name}-{}", std::process::id()))
+/// The case's own folder: removed when the test passes, kept (and named) when it fails.
+fn work(name: &str) -> Scratch {
+    scratch("fuzz", name)
 }
 
 #[test]
 fn oracle_flags_panics_hangs_signals_wrong_exit_codes_and_broken_promises() {
     let dir = work("oracle");
-    std::fs::create_dir_all(&dir).unwrap();
     let limits = engine::Limits {
         timeout: Duration::from_secs(1),
         cpu_seconds: 1,
@@ -126,7 +128,6 @@ fn corpus_replays() {
             }
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// In-process cases; every `BINARY_EVERY`-th also runs the binary. Measured on this machine
@@ -168,7 +169,6 @@ fn fixed_seed_sample() {
                         }
                     }
                 }
-                let _ = std::fs::remove_dir_all(&dir);
             });
         }
     });
@@ -248,11 +248,10 @@ fn dataset_fixed_seed_sample() {
                         }
                     }
                 }
-                let _ = std::fs::remove_dir_all(&dir);
             });
         }
     });
-    let _ = std::fs::remove_dir_all(&dir);
+    drop(dir);
     let f = failures.into_inner().unwrap();
     assert!(f.is_empty(), "{} failing cases:\n{}", f.len(), f.join("\n"));
     let [ok, refused] = counts.into_inner().unwrap();

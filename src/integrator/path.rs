@@ -4,8 +4,18 @@
 //! Depth follows Mitsuba 3's `path` integrator: a path of k segments has depth k; `max_depth` 1
 //! shows only directly visible emitters, 2 adds direct lighting, −1 is unbounded. Russian
 //! roulette starts once depth ≥ `rr_depth`: continue with q = min(max(β)·η², 0.95), β /= q.
+//!
+//! The settings are in `path/settings.rs`; the loop, the path's state and its scattering stay
+//! in this one file, so that the hot code compiles as one unit as it did (a split of it cost
+//! instructions in callgrind).
 
-use super::caustics::{CausticSettings, Caustics};
+mod settings;
+#[cfg(test)]
+mod tests;
+
+pub use settings::{Dispersion, PathSettings};
+
+use super::caustics::Caustics;
 use crate::bsdf::{Bsdf, BsdfLike};
 use crate::emitter::{AreaEmitter, AreaRadiance, Emitter};
 use crate::interaction::SurfaceInteraction;
@@ -15,52 +25,6 @@ use crate::sampler::{PixelSampler, BOUNCE_DIMS, CAMERA_DIMS};
 use crate::scene::Scene;
 use crate::spectrum::{Spectrum, Wavelengths};
 use glam::{Vec2, Vec3};
-use serde::{Deserialize, Serialize};
-
-/// Settings of the `path` integrator, with Mitsuba 3's names and defaults.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct PathSettings {
-    /// Longest path in segments; −1 = unbounded.
-    pub max_depth: i32,
-    /// Depth from which Russian roulette may end paths.
-    pub rr_depth: u32,
-    /// Hide emitters seen directly by the camera.
-    pub hide_emitters: bool,
-    /// Opt-in firefly clamp: a camera sample's radiance is cut to at most this value
-    /// (W m^-2 sr^-1 nm^-1) in every lane. Off by default: clamping removes energy, so it biases
-    /// ground truth (darker highlights and caustics); prism counts the samples it clamped.
-    pub clamp: Option<f32>,
-    /// Opt-in caustic light tracing (`caustics: Some(())` for the defaults): caustics of an
-    /// environment map's sun, of directional and of area lights, seen on surfaces the camera
-    /// sees, are traced from the light instead of found by chance (`integrator::caustics`).
-    /// Unbiased.
-    pub caustics: Option<CausticSettings>,
-}
-
-impl Default for PathSettings {
-    fn default() -> Self {
-        Self {
-            max_depth: -1,
-            rr_depth: 5,
-            hide_emitters: false,
-            clamp: None,
-            caustics: None,
-        }
-    }
-}
-
-/// How lanes are treated where sampling depends on wavelength (dispersion).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Dispersion {
-    /// Keep every lane, weighted by spectral MIS over the lanes' sampling densities (Wilkie et
-    /// al. 2014): lanes that could have produced the hero's direction keep contributing.
-    #[default]
-    SpectralMis,
-    /// Drop the secondary lanes at the first dispersive event (pbrt-v4's approach); kept for
-    /// comparison.
-    TerminateSecondary,
-}
 
 /// `radiance` with its dispersion and caustics chosen.
 pub type RadianceFn<const N: usize> = fn(
@@ -428,43 +392,5 @@ impl<const N: usize> Path<N> {
         self.prev_p = si.p;
         self.prev_delta = bs.delta;
         Some(si.spawn(wo_world))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::shape::{Shape, Sphere};
-    use crate::spectrum::{Curve, WavelengthSampler, WavelengthSampling};
-
-    /// The memo is keyed by emitter: two lights of different spectra, asked for in turn, each
-    /// get their own radiance, evaluated at the path's lanes.
-    #[test]
-    fn le_memo_keeps_each_light_apart() {
-        let sphere = Shape::Sphere(Sphere {
-            center: Vec3::ZERO,
-            radius: 1.0,
-            flip: false,
-        });
-        let red = AreaEmitter::new(0, &sphere, Curve::rgb_illuminant([4.0, 0.1, 0.1]));
-        let blue = AreaEmitter::new(1, &sphere, Curve::rgb_illuminant([0.1, 0.1, 4.0]));
-        let wl: Wavelengths<8> =
-            WavelengthSampler::new(WavelengthSampling::Visible, 360.0, 830.0).sample(0.3);
-        let want = |a: &AreaEmitter| a.radiance.eval(Vec2::ZERO, &wl);
-        let mut memo = LeMemo {
-            emitter: LeMemo::<8>::NONE,
-            le: Spectrum::zero(),
-        };
-        for (e, em) in [
-            (0, &red),
-            (0, &red),
-            (1, &blue),
-            (0, &red),
-            (1, &blue),
-            (1, &blue),
-        ] {
-            assert_eq!(memo.get(e, em, Vec2::ZERO, &wl), want(em), "emitter {e}");
-        }
-        assert_ne!(want(&red), want(&blue));
     }
 }
