@@ -106,12 +106,13 @@ impl Bvh {
         if !self.packets.is_empty() {
             let shear = RayShear::new(ray);
             let shear4 = RayShear4::new(&shear);
-            self.triangles.traverse::<true>(
+            self.triangles.traverse_isa::<true>(
                 ray,
                 &mut t_max,
                 #[inline(always)]
-                |first, count, t_max| {
-                    self.closest_triangle(first, count, &shear, &shear4, t_max, &mut best);
+                |first, count, t_max, avx2| {
+                    let tris = (&shear, &shear4, avx2);
+                    self.closest_triangle(first, count, tris, t_max, &mut best);
                     Visit::Continue
                 },
             );
@@ -136,18 +137,45 @@ impl Bvh {
 
     /// The nearest hit among a leaf's triangle packets, kept in `best` if nearer than `t_max`.
     /// Always inlined: it runs inside the traversal loop (its AVX2 build included), where a call
-    /// per leaf cost about 5% of the rays per second (traversal benchmark, diffuse rays).
+    /// per leaf cost about 5% of the rays per second (traversal benchmark, diffuse rays). In
+    /// the AVX2 loop a leaf of two packets takes one 8-wide test (`intersect_pair_avx2`),
+    /// whose results it keeps in the order the packet-by-packet loop would.
     #[inline(always)]
     fn closest_triangle(
         &self,
         first: u32,
         count: u32,
-        shear: &RayShear,
-        shear4: &RayShear4,
+        (shear, shear4, avx2): (&RayShear, &RayShear4, bool),
         t_max: &mut f32,
         best: &mut Option<Hit>,
     ) {
-        for p in &self.packets[first as usize..(first + count) as usize] {
+        let packets = &self.packets[first as usize..(first + count) as usize];
+        #[cfg(target_arch = "x86_64")]
+        if let ([a, b], true) = (packets, avx2) {
+            // SAFETY: `avx2` is true only inside `traverse_avx2` (an AVX2 CPU, AVX2 code).
+            let h = unsafe { Triangle4::intersect_pair_avx2(a, b, shear4, *t_max) };
+            let hit = |k: usize| PrimHit {
+                t: h.t[k],
+                b1: h.b1[k],
+                b2: h.b2[k],
+            };
+            // The loop's order: `a`'s hits and redos, then `b`'s, whose in-range test is
+            // applied again at the t_max `a` left (the loop tests `b` only then).
+            for lane in lanes(h.mask & 0xf) {
+                keep_closer(best, t_max, a.ids[lane], hit(lane));
+            }
+            redo_closest(shear, a, h.redo & 0xf, t_max, best);
+            let t_b = *t_max;
+            for lane in lanes(h.mask >> 4) {
+                if h.ts[lane + 4] < t_b * h.det_abs[lane + 4] {
+                    keep_closer(best, t_max, b.ids[lane], hit(lane + 4));
+                }
+            }
+            redo_closest(shear, b, h.redo >> 4, t_max, best);
+            return;
+        }
+        let _ = avx2;
+        for p in packets {
             let h = p.intersect(shear4, *t_max);
             for lane in lanes(h.mask) {
                 let hit = PrimHit {
@@ -157,37 +185,35 @@ impl Bvh {
                 };
                 keep_closer(best, t_max, p.ids[lane], hit);
             }
-            for lane in lanes(h.redo) {
-                if let Some(r) = triangle::intersect(shear, *t_max, &p.vertices(lane)) {
-                    let hit = PrimHit {
-                        t: r.t,
-                        b1: r.b1,
-                        b2: r.b2,
-                    };
-                    keep_closer(best, t_max, p.ids[lane], hit);
-                }
-            }
+            redo_closest(shear, p, h.redo, t_max, best);
         }
     }
 
     /// Whether any of a leaf's triangle packets blocks the ray before `t_max` (inlined as
-    /// `closest_triangle` is).
+    /// `closest_triangle` is, with the same two-packet test in the AVX2 loop).
     #[inline(always)]
     fn any_triangle(
         &self,
         first: u32,
         count: u32,
-        shear: &RayShear,
-        shear4: &RayShear4,
+        (shear, shear4, avx2): (&RayShear, &RayShear4, bool),
         t_max: f32,
     ) -> bool {
+        let packets = &self.packets[first as usize..(first + count) as usize];
+        let redo_hits = |p: &Triangle4, redo: u32| {
+            lanes(redo).any(|lane| triangle::intersect(shear, t_max, &p.vertices(lane)).is_some())
+        };
+        #[cfg(target_arch = "x86_64")]
+        if let ([a, b], true) = (packets, avx2) {
+            // SAFETY: `avx2` is true only inside `traverse_avx2` (an AVX2 CPU, AVX2 code).
+            let h = unsafe { Triangle4::intersect_pair_avx2(a, b, shear4, t_max) };
+            return h.mask != 0 || redo_hits(a, h.redo & 0xf) || redo_hits(b, h.redo >> 4);
+        }
+        let _ = avx2;
         // A plain loop: `Iterator::any` was not inlined into the traversal.
-        for p in &self.packets[first as usize..(first + count) as usize] {
+        for p in packets {
             let h = p.intersect(shear4, t_max);
-            if h.mask != 0
-                || lanes(h.redo)
-                    .any(|lane| triangle::intersect(shear, t_max, &p.vertices(lane)).is_some())
-            {
+            if h.mask != 0 || redo_hits(p, h.redo) {
                 return true;
             }
         }
@@ -208,12 +234,13 @@ impl Bvh {
         if !self.packets.is_empty() {
             let shear = RayShear::new(ray);
             let shear4 = RayShear4::new(&shear);
-            let blocked = self.triangles.traverse::<false>(
+            let blocked = self.triangles.traverse_isa::<false>(
                 ray,
                 &mut t_max,
                 #[inline(always)]
-                |first, count, t_max| {
-                    stop_if(self.any_triangle(first, count, &shear, &shear4, *t_max))
+                |first, count, t_max, avx2| {
+                    let tris = (&shear, &shear4, avx2);
+                    stop_if(self.any_triangle(first, count, tris, *t_max))
                 },
             );
             if blocked {
@@ -246,6 +273,28 @@ fn lanes(mut mask: u32) -> impl Iterator<Item = usize> {
             lane
         })
     })
+}
+
+/// The lanes of `redo` in packet `p`, tested one by one (`triangle::intersect`, with its f64
+/// refinement), each kept if closer.
+#[inline(always)]
+fn redo_closest(
+    shear: &RayShear,
+    p: &Triangle4,
+    redo: u32,
+    t_max: &mut f32,
+    best: &mut Option<Hit>,
+) {
+    for lane in lanes(redo) {
+        if let Some(r) = triangle::intersect(shear, *t_max, &p.vertices(lane)) {
+            let hit = PrimHit {
+                t: r.t,
+                b1: r.b1,
+                b2: r.b2,
+            };
+            keep_closer(best, t_max, p.ids[lane], hit);
+        }
+    }
 }
 
 /// Makes `hit` the closest so far if it is nearer than `t_max`.

@@ -267,7 +267,7 @@ mod tests {
             let run = |avx2: bool, ordered: bool| {
                 let mut seq = Vec::new();
                 let mut t_max = 40.0f32;
-                let leaf = |first: u32, _count: u32, t: &mut f32| {
+                let leaf = |first: u32, _count: u32, t: &mut f32, _avx2: bool| {
                     seq.push((first, t.to_bits()));
                     if first % 3 == 0 {
                         *t = t.min(5.0 + (first % 17) as f32);

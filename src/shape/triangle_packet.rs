@@ -179,13 +179,17 @@ impl Triangle4 {
     /// `intersect` of packets `a` and `b` in one pass of 8-wide AVX instructions: every lane
     /// does `intersect`'s IEEE operations in its order (the comparisons are the same
     /// predicates, NaN included), so each lane's result is bit for bit `intersect`'s at this
-    /// `t_max` (tested in triangle_tests.rs). A leaf of two packets costs about one test
-    /// instead of two.
+    /// `t_max` (tests/accel.rs::pair_test_matches_packet_test). A leaf of two packets costs
+    /// about one test instead of two.
+    ///
+    /// Always inlined and without `#[target_feature]` (which forbids `inline(always)`): with
+    /// it, rustc kept the function out of line, a call per two-packet leaf with its 8-lane
+    /// result spilled. Inlined into `Tree::traverse_avx2`, its intrinsics get AVX2 encodings;
+    /// called from code compiled for the baseline they stay calls (correct, slow).
     ///
     /// # Safety
     /// The CPU must have AVX2 (`is_x86_feature_detected!("avx2")`).
-    #[target_feature(enable = "avx2")]
-    #[inline]
+    #[inline(always)]
     pub unsafe fn intersect_pair_avx2(
         a: &Triangle4,
         b: &Triangle4,
@@ -208,19 +212,23 @@ impl Triangle4 {
         let [kx, ky, kz] = s.k;
         let (ox, oy, oz) = (sp(s.o[0]), sp(s.o[1]), sp(s.o[2]));
         let (sx, sy, sz) = (sp(s.sx), sp(s.sy), sp(s.sz));
-        let project = |vertex: usize| {
-            let x = _mm256_sub_ps(v(3 * vertex + kx as usize), ox);
-            let y = _mm256_sub_ps(v(3 * vertex + ky as usize), oy);
-            let z = _mm256_sub_ps(v(3 * vertex + kz as usize), oz);
-            (
-                _mm256_sub_ps(x, _mm256_mul_ps(sx, z)),
-                _mm256_sub_ps(y, _mm256_mul_ps(sy, z)),
-                z,
-            )
-        };
-        let (ax, ay, az) = project(0);
-        let (bx, by, bz) = project(1);
-        let (cx, cy, cz) = project(2);
+        // A macro, not a closure: rustc left the closure out of line (compiled for the
+        // baseline, its intrinsics calls), 64·10⁶ instructions of a Cornell render.
+        macro_rules! project {
+            ($vertex:expr) => {{
+                let x = _mm256_sub_ps(v(3 * $vertex + kx as usize), ox);
+                let y = _mm256_sub_ps(v(3 * $vertex + ky as usize), oy);
+                let z = _mm256_sub_ps(v(3 * $vertex + kz as usize), oz);
+                (
+                    _mm256_sub_ps(x, _mm256_mul_ps(sx, z)),
+                    _mm256_sub_ps(y, _mm256_mul_ps(sy, z)),
+                    z,
+                )
+            }};
+        }
+        let (ax, ay, az) = project!(0);
+        let (bx, by, bz) = project!(1);
+        let (cx, cy, cz) = project!(2);
         let u = sub(mul(cx, by), mul(cy, bx));
         let w_ = sub(mul(ax, cy), mul(ay, cx));
         let w = sub(mul(bx, ay), mul(by, ax));

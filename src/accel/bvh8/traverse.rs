@@ -15,7 +15,25 @@ impl Tree {
         &self,
         ray: &Ray,
         t_max: &mut f32,
-        leaf: impl FnMut(u32, u32, &mut f32) -> Visit,
+        mut leaf: impl FnMut(u32, u32, &mut f32) -> Visit,
+    ) -> bool {
+        self.traverse_isa::<ORDERED>(
+            ray,
+            t_max,
+            #[inline(always)]
+            |first, count, t_max, _| leaf(first, count, t_max),
+        )
+    }
+
+    /// `traverse`, with `leaf` told (fourth argument, a constant once inlined) whether it runs
+    /// inside the AVX2 build of the loop, where it may use AVX2 code inlined into it (the
+    /// two-packet triangle test: out of line it cost a call per leaf).
+    #[inline(always)]
+    pub fn traverse_isa<const ORDERED: bool>(
+        &self,
+        ray: &Ray,
+        t_max: &mut f32,
+        leaf: impl FnMut(u32, u32, &mut f32, bool) -> Visit,
     ) -> bool {
         // A ray with a NaN or infinite origin or direction meets nothing: its slab distances
         // would be NaN, which every lane's test lets through, unused lanes included (whose
@@ -37,7 +55,7 @@ impl Tree {
     #[target_feature(enable = "avx2")]
     pub(super) unsafe fn traverse_avx2<
         const ORDERED: bool,
-        F: FnMut(u32, u32, &mut f32) -> Visit,
+        F: FnMut(u32, u32, &mut f32, bool) -> Visit,
     >(
         &self,
         ray: &Ray,
@@ -51,7 +69,7 @@ impl Tree {
     pub(super) fn traverse_on<
         const ORDERED: bool,
         const AVX2: bool,
-        F: FnMut(u32, u32, &mut f32) -> Visit,
+        F: FnMut(u32, u32, &mut f32, bool) -> Visit,
     >(
         &self,
         ray: &Ray,
@@ -73,7 +91,7 @@ impl Tree {
         stack: &mut S,
         ray: &Ray,
         t_max: &mut f32,
-        mut leaf: impl FnMut(u32, u32, &mut f32) -> Visit,
+        mut leaf: impl FnMut(u32, u32, &mut f32, bool) -> Visit,
     ) -> bool {
         let q = BoxQuery::new(ray);
         let mut current = self.root;
@@ -141,7 +159,7 @@ impl Tree {
             } else {
                 let first = (current & !LEAF) >> 3;
                 let count = (current & 7) + 1;
-                if let Visit::Stop = leaf(first, count, t_max) {
+                if let Visit::Stop = leaf(first, count, t_max, AVX2) {
                     return true;
                 }
                 match pop(stack, *t_max) {
