@@ -366,28 +366,33 @@ fn pair_test_matches_packet_test() {
     );
 }
 
-/// Rays straight at the vertices and edge midpoints of a 2×2 grid of 8 triangles (one BVH
-/// leaf of two 4-triangle packets, so on AVX2 CPUs the two-packet test inside the traversal):
-/// their edge functions are exactly zero, so every hit goes through the redo lanes and the
-/// scalar test, in the packet-by-packet order. The BVH must hit where brute force hits, at the
-/// same distance, and agree on occlusion.
+/// One BVH leaf of two 4-triangle packets (so, on AVX2 CPUs, the two-packet test inside the
+/// traversal): the 8 triangles of a 2×2 grid, each lifted to its own depth, so their xy
+/// outlines share edges while the triangles do not. Rays straight down through the shared
+/// diagonal edges make an edge function exactly zero (the redo lanes and the scalar
+/// test) in both packets at once, and which triangle is nearest then depends on every lane
+/// being kept in its own packet; oblique random rays cover the plain lanes. The BVH must give
+/// brute force's nearest distance and occlusion answer for each ray.
 ///
-/// Tolerance: exact (same primitive code); which of two triangles sharing the edge wins may
-/// differ (equal t), so only t is compared.
+/// Tolerance: exact (the same primitive code on both sides; the depths differ, so the nearest
+/// triangle is unique and its t decides it). It does not yet prove the two-packet leaf code:
+/// giving the second packet the first's redo lanes did not fail it, so the builder likely
+/// splits these 8 triangles into two leaves (issue 26 note); the pair test itself is held by
+/// `pair_test_matches_packet_test` and whole images by tests/packet.rs.
 #[test]
-fn bvh_matches_brute_force_at_shared_edges_of_a_two_packet_leaf() {
-    let mut positions = Vec::new();
-    for y in 0..3 {
-        for x in 0..3 {
-            positions.push(Vec3::new(x as f32, y as f32, 0.0));
-        }
-    }
-    let mut indices = Vec::new();
+fn bvh_matches_brute_force_in_a_two_packet_leaf_at_different_depths() {
+    let depth = [0.3f32, 0.1, 0.7, 0.5, 0.2, 0.8, 0.4, 0.6];
+    let (mut positions, mut indices) = (Vec::new(), Vec::new());
+    let corner = |i: u32| Vec3::new((i % 3) as f32, (i / 3) as f32, 0.0);
     for y in 0..2u32 {
         for x in 0..2u32 {
             let i = y * 3 + x;
-            indices.push([i, i + 1, i + 4]);
-            indices.push([i, i + 4, i + 3]);
+            for tri in [[i, i + 1, i + 4], [i, i + 4, i + 3]] {
+                let z = depth[indices.len()];
+                let n = positions.len() as u32;
+                positions.extend(tri.map(|k| corner(k) + Vec3::Z * z));
+                indices.push([n, n + 1, n + 2]);
+            }
         }
     }
     let mesh = Shape::Mesh(Mesh {
@@ -400,24 +405,41 @@ fn bvh_matches_brute_force_at_shared_edges_of_a_two_packet_leaf() {
     let p = prims(&[mesh]);
     let bvh = Accel::build(p.clone(), AccelKind::Bvh);
     let brute = Accel::build(p, AccelKind::BruteForce);
-    let mut hits = 0;
-    // Interior targets only: a ray along a face of the leaf's box (x or y = 0 or 2, zero
-    // direction component) is a slab-test edge case of its own, not this test's subject.
-    for ty in 1..4 {
-        for tx in 1..4 {
-            let target = Vec3::new(tx as f32 * 0.5, ty as f32 * 0.5, 0.0);
-            for o in [Vec3::Z, Vec3::new(0.0, 0.0, 3.0), Vec3::new(0.5, 0.25, 1.0)] {
-                let ray = Ray::new(target + o, -o.normalize());
-                let (a, b) = (bvh.intersect(&ray), brute.intersect(&ray));
-                assert_eq!(
-                    a.map(|h| h.hit.t.to_bits()),
-                    b.map(|h| h.hit.t.to_bits()),
-                    "ray at {target} from {o}"
-                );
-                assert_eq!(bvh.occluded(&ray), brute.occluded(&ray), "{target} {o}");
-                hits += b.is_some() as u32;
-            }
+    let mut rays = Vec::new();
+    // Straight down through the shared diagonal edge of each tile. Not through the tiles'
+    // borders (x or y = 0, 1, 2): a ray with a zero direction component lying exactly in a
+    // plane of a BVH box is lost by the slab test (0 · ∞ is NaN), packet path or not, a
+    // limitation of its own (docs/performance.md), not this test's subject.
+    for (x0, y0) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+        for s in [0.25, 0.5, 0.75] {
+            rays.push(Ray::new(Vec3::new(x0 + s, y0 + s, 3.0), -Vec3::Z));
         }
     }
-    assert_eq!(hits, 27, "every ray hits the grid");
+    let mut rng = Pcg32::new(7, 11);
+    for _ in 0..2000 {
+        let target = Vec3::new(0.1 + 1.8 * rng.next_f32(), 0.1 + 1.8 * rng.next_f32(), 0.5);
+        let from = Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, 1.0).normalize();
+        rays.push(Ray::new(target + from * 3.0, -from));
+    }
+    let mut hits = 0;
+    for ray in &rays {
+        let (a, b) = (bvh.intersect(ray), brute.intersect(ray));
+        assert_eq!(
+            a.map(|h| h.hit.t.to_bits()),
+            b.map(|h| h.hit.t.to_bits()),
+            "ray from {} along {}",
+            ray.o,
+            ray.d
+        );
+        assert_eq!(
+            bvh.occluded(ray),
+            brute.occluded(ray),
+            "{} {}",
+            ray.o,
+            ray.d
+        );
+        hits += b.is_some() as u32;
+    }
+    // 1,843 of the 2,012 hit here (oblique rays near the border pass beside the tilted grid).
+    assert!(hits > 1700, "the rays miss the leaf ({hits} hits)");
 }
