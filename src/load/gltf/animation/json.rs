@@ -87,8 +87,31 @@ pub fn check_json(path: &Path, json: &Value) -> Result<(), InputError> {
                 "translation" | "scale" => ("VEC3", &[5126]),
                 "rotation" => ("VEC4", &[5126, 5120, 5121, 5122, 5123]),
                 "weights" => ("SCALAR", &[5126, 5120, 5121, 5122, 5123]),
-                _ => continue, // the crate refuses unknown paths itself
+                // The crate marks any other value invalid and panics when its channel is read
+                // (fuzz run 12, case 70507: "rota\u{feff}tion"), so it is refused here.
+                _ => {
+                    return Err(err(
+                        path,
+                        format!("{cf}.target.path"),
+                        format!("the target path {prop:?} is not one of translation, rotation, scale, weights"),
+                        REEXPORT,
+                    ))
+                }
             };
+            // The same for the sampler's interpolation (LINEAR when absent).
+            match sampler.get("interpolation") {
+                None => {}
+                Some(Value::String(i))
+                    if matches!(i.as_str(), "LINEAR" | "STEP" | "CUBICSPLINE") => {}
+                Some(i) => {
+                    return Err(err(
+                        path,
+                        format!("{sf}.interpolation"),
+                        format!("the interpolation {i} is not one of LINEAR, STEP, CUBICSPLINE"),
+                        REEXPORT,
+                    ))
+                }
+            }
             if ty(output) != want || !comps.contains(&comp(output)) {
                 return Err(err(
                     path,
