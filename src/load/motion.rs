@@ -191,16 +191,7 @@ pub(super) fn motion(
         let m = transform(&key.to_world, file, &format!("{kf}.to_world"))?.m;
         let (s, r, t) = m.to_scale_rotation_translation();
         let back = Mat4::from_scale_rotation_translation(s, r, t);
-        let size = m
-            .abs()
-            .to_cols_array()
-            .iter()
-            .fold(0.0f32, |a, &b| a.max(b));
-        let err = (back - m)
-            .abs()
-            .to_cols_array()
-            .iter()
-            .fold(0.0f32, |a, &b| a.max(b));
+        let (size, err) = (max_abs(m), max_abs(back - m));
         // 1e-4 of the matrix's largest entry: far above f32 rounding, far below a real shear.
         check(
             err <= 1e-4 * size.max(1.0),
@@ -324,4 +315,13 @@ pub fn motions(
             span: plan.shutter.span(height),
         }),
     })
+}
+
+/// The largest absolute entry of `m`: the scale of a matrix, and of its difference from its
+/// scale-rotation-translation rebuild when checking for shear.
+pub(crate) fn max_abs(m: Mat4) -> f32 {
+    m.abs()
+        .to_cols_array()
+        .iter()
+        .fold(0.0f32, |a, &b| a.max(b))
 }

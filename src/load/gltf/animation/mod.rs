@@ -272,16 +272,8 @@ pub fn fold(above: Mat4, m: Motion) -> Option<Motion> {
     let k = s.x;
     let uniform = k > 0.0 && (s - Vec3::splat(k)).abs().max_element() <= 1e-4 * k;
     let back = Mat4::from_scale_rotation_translation(Vec3::splat(k), r, above.w_axis.truncate());
-    let size = above
-        .abs()
-        .to_cols_array()
-        .iter()
-        .fold(1.0f32, |a, &b| a.max(b));
-    let err = (back - above)
-        .abs()
-        .to_cols_array()
-        .iter()
-        .fold(0.0f32, |a, &b| a.max(b));
+    use crate::load::motion::max_abs;
+    let (size, err) = (max_abs(above).max(1.0), max_abs(back - above));
     if !uniform || err > 1e-4 * size {
         return None;
     }
