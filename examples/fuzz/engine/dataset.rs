@@ -179,8 +179,11 @@ pub fn materialise(case: &Case, d: &DatasetCase, dir: &Path, repo: &Path, fifo: 
         OutState::DanglingLink => std::os::unix::fs::symlink(dir.join("nowhere/x"), &out).unwrap(),
         OutState::Primed(damages) => {
             write_pair(&d.prime_config, &d.prime_scene);
-            let a = super::oracle::with_program(args(dir, &[]));
-            let code = std::panic::catch_unwind(|| prism::cli::run(a)).unwrap_or(101);
+            let key = (fill(&d.prime_config), fill(&d.prime_scene));
+            let code = primed(&key, &out, || {
+                let a = super::oracle::with_program(args(dir, &[]));
+                std::panic::catch_unwind(|| prism::cli::run(a)).unwrap_or(101)
+            });
             if code == 0 {
                 for dmg in damages {
                     damage(&out, dmg, fifo);
@@ -189,6 +192,60 @@ pub fn materialise(case: &Case, d: &DatasetCase, dir: &Path, repo: &Path, fifo: 
         }
     }
     write_pair(&d.config, &case.scene);
+}
+
+/// A primed folder as the unmutated pair's run left it: its exit code and, when every path
+/// under OUT is a directory or a regular file, those paths (relative) with the files' bytes.
+type Primed = (i32, Option<Vec<(PathBuf, Option<Vec<u8>>)>>);
+
+thread_local! {
+    /// Primed folders per (config, scene) text, per job thread. Those texts name the job's own
+    /// directory, so a folder is only ever restored where it was made. The unmutated pair's
+    /// run is deterministic, so a restored folder holds the bytes a fresh run would write
+    /// (only mtimes differ, and resumes hash files anew in each process); restoring skips
+    /// about half of a dataset case's rendering.
+    static PRIMED: std::cell::RefCell<std::collections::HashMap<(String, String), Primed>> =
+        Default::default();
+}
+
+/// Fills OUT as `run` would (running it the first time per key), returning its exit code.
+fn primed(key: &(String, String), out: &Path, run: impl FnOnce() -> i32) -> i32 {
+    let cached = PRIMED.with(|c| c.borrow().get(key).cloned());
+    if let Some((code, Some(tree))) = cached {
+        for (rel, bytes) in &tree {
+            let p = out.join(rel);
+            match bytes {
+                None => std::fs::create_dir_all(&p).unwrap(),
+                Some(b) => std::fs::write(&p, b).unwrap(),
+            }
+        }
+        return code;
+    }
+    let code = run();
+    let tree = record(out);
+    PRIMED.with(|c| c.borrow_mut().insert(key.clone(), (code, tree)));
+    code
+}
+
+/// OUT's directories and regular files, parents first; None if anything else is there.
+fn record(out: &Path) -> Option<Vec<(PathBuf, Option<Vec<u8>>)>> {
+    let mut v = Vec::new();
+    let mut stack = vec![out.to_path_buf()];
+    while let Some(p) = stack.pop() {
+        let m = std::fs::symlink_metadata(&p).ok()?;
+        let rel = p.strip_prefix(out).ok()?.to_path_buf();
+        if m.is_dir() {
+            v.push((rel, None));
+            for e in std::fs::read_dir(&p).ok()? {
+                stack.push(e.ok()?.path());
+            }
+        } else if m.is_file() {
+            v.push((rel, Some(std::fs::read(&p).ok()?)));
+        } else {
+            return None;
+        }
+    }
+    Some(v)
 }
 
 /// What OUT holds, for "exit 2 changed nothing": each path under it (links not followed) with
