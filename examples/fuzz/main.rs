@@ -31,8 +31,8 @@ fn main() {
     let mut dataset_every: u64 = 5;
     let mut start: u64 = 0;
     let mut out = PathBuf::from("out/fuzz");
-    let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let mut bin = repo.join("target/release/prism");
+    let mut repo = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut bin = None;
     let a: Vec<String> = std::env::args().skip(1).collect();
     let mut i = 0;
     while i < a.len() {
@@ -45,11 +45,15 @@ fn main() {
             "--start" => start = v.parse().expect("--start N"),
             "--dataset-every" => dataset_every = v.parse().expect("--dataset-every N (0: never)"),
             "--out" => out = PathBuf::from(v),
-            "--bin" => bin = PathBuf::from(v),
+            "--bin" => bin = Some(PathBuf::from(v)),
+            // A copy of the tree, so a long run reads seeds and assets that cannot change
+            // under it while the checkout moves on.
+            "--repo" => repo = PathBuf::from(v),
             other => panic!("unknown argument {other}"),
         }
         i += 2;
     }
+    let bin = bin.unwrap_or_else(|| repo.join("target/release/prism"));
     let seeds = engine::load_seeds(&repo);
     println!(
         "fuzz: {} seed scenes, {} seed files, {} dataset seeds; cases {start}..{}, seed {seed}, {jobs} jobs, binary every {every}, dataset every {dataset_every}",
