@@ -69,6 +69,12 @@ fn oracle_flags_panics_hangs_signals_wrong_exit_codes_and_broken_promises() {
         // Busy: ended by the CPU-time bound (SIGXCPU); checked below that the wall bound,
         // raised for it, did not fire instead.
         ("while :; do :; done", "hang"),
+        // Slow but working (three bursts of CPU with pauses shorter than the 1 s bound, more
+        // than 1 s in all): not a hang, as a starved prism on a loaded machine is not.
+        (
+            "for k in 1 2 3 4; do i=0; while [ $i -lt 30000 ]; do i=$((i+1)); done; sleep 0.4; done; echo \"error: $2: bad\" >&2; exit 2",
+            "ok",
+        ),
         ("kill -SEGV $$", "signal"),
         ("exit 1", "wrong-exit"),
         (refused, "ok"),
@@ -87,6 +93,7 @@ fn oracle_flags_panics_hangs_signals_wrong_exit_codes_and_broken_promises() {
         let busy = body.starts_with("while");
         let limits = engine::Limits {
             timeout: Duration::from_secs(if busy { 60 } else { 1 }),
+            cpu_seconds: if body.starts_with("for") { 10 } else { 1 },
             ..limits
         };
         for n in engine::OUTPUTS {

@@ -10,8 +10,10 @@ use std::time::{Duration, Instant};
 /// Bounds on one case.
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
-    /// Wall-clock bound: catches a prism blocked without using the CPU (a deadlock, a read
-    /// that never ends). Generous, since a loaded machine stretches wall time.
+    /// Bound on wall time in which a spawned prism gains no CPU time: catches a prism blocked
+    /// without using the CPU (a deadlock, a read that never ends). A starved one still gains
+    /// some CPU time (a 120 s bound on plain wall time flagged a 5 s case as a hang at nice 15
+    /// under a load average of 10).
     pub timeout: Duration,
     /// CPU-time bound of a spawned prism (`prlimit --cpu`, SIGXCPU past it): catches a busy
     /// loop whatever the machine's load (a 20 s wall bound flagged an 8×32768 film at 1.9 s
@@ -97,7 +99,6 @@ fn spawn_judged(
         .stderr(Stdio::piped())
         .spawn()
         .expect("prlimit and prism run");
-    let start = Instant::now();
     let mut stderr = child.stderr.take().unwrap();
     let reader = std::thread::spawn(move || {
         let mut s = String::new();
@@ -105,11 +106,16 @@ fn spawn_judged(
         let _ = stderr.read_to_string(&mut s);
         s
     });
+    let (mut cpu, mut progress) = (0, Instant::now());
     let status = loop {
         if let Some(st) = child.try_wait().unwrap() {
             break Some(st);
         }
-        if start.elapsed() > limits.timeout {
+        let now = cpu_ticks(child.id()).unwrap_or(cpu);
+        if now > cpu {
+            (cpu, progress) = (now, Instant::now());
+        }
+        if progress.elapsed() > limits.timeout {
             let _ = child.kill();
             let _ = child.wait();
             break None;
@@ -272,6 +278,14 @@ pub fn install_panic_hook() {
         }
         *PANIC.lock().unwrap_or_else(|e| e.into_inner()) = Some(msg);
     }));
+}
+
+/// User plus system CPU time of process `pid` (all its threads), in clock ticks: fields 14 and
+/// 15 of /proc/PID/stat, counted after the parenthesised command name (which may hold spaces).
+fn cpu_ticks(pid: u32) -> Option<u64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    let mut f = stat.rsplit_once(')')?.1.split_whitespace().skip(11);
+    Some(f.next()?.parse::<u64>().ok()? + f.next()?.parse::<u64>().ok()?)
 }
 
 /// Runs the case in `dir` through `prism::cli::run` in this process, catching panics. Hangs
