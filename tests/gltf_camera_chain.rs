@@ -25,17 +25,18 @@ fn turn(t: f32) -> Mat4 {
 
 /// The cubic translation's keys (glTF CUBICSPLINE: in-tangent, value, out-tangent per key).
 const CUBIC: &[f32] = &[
-    0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 2.0, 0.0, 0.0, //
+    0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 6.0, 0.0, 0.0, //
     0.0, 1.0, 0.0, 1.0, 0.5, 5.0, 0.0, 0.0, 0.0,
 ];
 
 /// glTF's cubic Hermite on [0, 1] (key interval 1) for `CUBIC`: p0 (0, 0, 5), out-tangent
-/// (2, 0, 0), p1 (1, 0.5, 5), in-tangent (0, 1, 0).
+/// (6, 0, 0), p1 (1, 0.5, 5), in-tangent (0, 1, 0): over the blur's [0, 0.2] s it slides 0.87
+/// along x where a straight line between the keys slides 0.2.
 fn hermite(t: f32) -> Vec3 {
     let u = t.clamp(0.0, 1.0);
     let (u2, u3) = (u * u, u * u * u);
     Vec3::new(0.0, 0.0, 5.0) * (2.0 * u3 - 3.0 * u2 + 1.0)
-        + Vec3::new(2.0, 0.0, 0.0) * (u3 - 2.0 * u2 + u)
+        + Vec3::new(6.0, 0.0, 0.0) * (u3 - 2.0 * u2 + u)
         + Vec3::new(1.0, 0.5, 5.0) * (-2.0 * u3 + 3.0 * u2)
         + Vec3::new(0.0, 1.0, 0.0) * (u3 - u2)
 }
@@ -137,6 +138,7 @@ fn max_diff(a: Mat4, b: Mat4) -> f32 {
 #[test]
 fn a_gltf_camera_under_any_motion_is_posed_by_its_closed_form() {
     let dir = scratch::scratch("gltf-chain", "poses");
+    let mut bad = Vec::new();
     for (name, text, pose) in cases() {
         let p = write(&dir, name, &text);
         let job = prism::load::load(&p, |cfg| {
@@ -150,20 +152,22 @@ fn a_gltf_camera_under_any_motion_is_posed_by_its_closed_form() {
         .unwrap_or_else(|e| panic!("{name}: {e}"));
         let timing = job.scene.timing.as_ref().expect("an open shutter");
         let (m, _) = timing.camera.as_ref().expect("a moving camera");
-        for i in 0..=100 {
-            let t = i as f32 / 100.0;
-            let (got, want) = (m.matrix(t), pose(t));
-            assert!(
-                max_diff(got, want) < 1e-5,
-                "{name} at {t} s: {got} vs {want}"
-            );
+        let worst = (0..=100)
+            .map(|i| i as f32 / 100.0)
+            .map(|t| (max_diff(m.matrix(t), pose(t)), t))
+            .fold((0f32, 0f32), |a, b| if b.0 > a.0 { b } else { a });
+        if worst.0 >= 1e-5 {
+            bad.push(format!("{name}: traced {} off at {} s", worst.0, worst.1));
         }
         for t in [0.25f32, 0.6] {
             let job = prism::load::load(&p, |cfg| prism::load::motion::set_time(cfg, t)).unwrap();
             let got = job.scene.camera.to_world().m;
-            assert!(max_diff(got, pose(t)) < 1e-5, "{name} at the instant {t}");
+            if max_diff(got, pose(t)) >= 1e-5 {
+                bad.push(format!("{name}: at the instant {t}: {got} vs {}", pose(t)));
+            }
         }
     }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
 
 /// The blur of each moving camera equals the mean of its instants (the tolerance is
@@ -172,13 +176,18 @@ fn a_gltf_camera_under_any_motion_is_posed_by_its_closed_form() {
 #[test]
 fn a_gltf_camera_under_any_motion_blurs_as_its_instants() {
     let dir = scratch::scratch("gltf-chain", "blur");
+    let mut bad = Vec::new();
     for (name, text, _) in cases().into_iter().take(3) {
         let p = write(&dir, name, &text);
         let (worst, still) = blur_against_instants(&p);
         eprintln!("{name}: worst column {worst:.3} of its tolerance; held camera {still:.2}");
-        assert!(worst < 1.0, "{name}: worst column {worst} of the tolerance");
-        assert!(still > 1.0, "{name}: a held camera passes too ({still})");
+        if worst >= 1.0 || still <= 1.0 {
+            bad.push(format!(
+                "{name}: blur {worst:.3}, held {still:.2} of the tolerance"
+            ));
+        }
     }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
 
 /// OpenCV pixel (corner at 0, centres at i + 0.5) of world point `x` seen by the pinhole with
@@ -198,6 +207,7 @@ fn project(pose: Mat4, x: DVec3) -> DVec2 {
 #[test]
 fn a_gltf_camera_under_any_motion_flows_by_its_closed_form() {
     let dir = scratch::scratch("gltf-chain", "flow");
+    let mut bad = Vec::new();
     for (name, text, pose) in cases().into_iter().take(3) {
         let p = write(&dir, name, &text);
         let job = prism::load::load(&p, |cfg| {
@@ -217,7 +227,9 @@ fn a_gltf_camera_under_any_motion_flows_by_its_closed_form() {
             .find(|c| c.name == "instance.ID")
             .expect("instance.ID")
             .data;
-        let mut on = 0;
+        // Pixels whose point this frame's pose does not project to their centre: the frame's
+        // own camera is not the closed form.
+        let (mut on, mut worst, mut off) = (0, 0f64, 0);
         for i in 0..24 * 18 {
             if id[i] == 0 {
                 continue;
@@ -226,17 +238,27 @@ fn a_gltf_camera_under_any_motion_flows_by_its_closed_form() {
             let centre = DVec2::new((i % 24) as f64 + 0.5, (i / 24) as f64 + 0.5);
             let point = DVec3::new(x[i] as f64, y[i] as f64, z[i] as f64);
             let now = project(pose(0.1), point);
-            assert!(
-                (now - centre).abs().max_element() < 1e-3,
-                "{name}: pixel {i} projects to {now}, not its centre {centre}"
-            );
+            if (now - centre).abs().max_element() >= 1e-3 {
+                off += 1;
+                continue;
+            }
             let want = project(pose(0.15), point) - centre;
             let got = DVec2::new(fx[i] as f64, fy[i] as f64);
-            assert!(
-                (got - want).abs().max_element() < 1e-3,
-                "{name}: pixel {i} flows {got}, closed form {want}"
-            );
+            let d = (got - want).abs().max_element();
+            if d > worst {
+                worst = d;
+                if d >= 1e-3 {
+                    bad.push(format!("{name}: pixel {i} flows {got}, closed form {want}"));
+                }
+            }
+        }
+        eprintln!("{name}: worst flow error {worst:.2e} px over {on} pixels");
+        if off > 0 {
+            bad.push(format!(
+                "{name}: {off} of {on} pixels' points project off their centres (the frame's pose)"
+            ));
         }
         assert!(on > 50, "{name}: {on} pixels on the model");
     }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
