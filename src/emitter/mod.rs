@@ -257,8 +257,9 @@ impl Emitter {
         self.pdf_li_env_at(d, 0.0)
     }
 
-    /// `pdf_li_env` at `time`.
-    #[inline]
+    /// `pdf_li_env` at `time`. Always inlined: a moving map's own lookup is out of line
+    /// (`MovingLight::pdf_env`), so a still scene's path loop pays no call.
+    #[inline(always)]
     pub fn pdf_li_env_at(&self, d: Vec3, time: f32) -> f32 {
         match self {
             Emitter::Constant { .. } => UNIFORM_SPHERE_PDF,

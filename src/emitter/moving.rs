@@ -32,13 +32,18 @@ impl MovingLight {
     }
 
     /// Radiance from infinity along `d` at `time` (a moving environment map: the map's own
-    /// direction is the world's turned back by the rotation then).
+    /// direction is the world's turned back by the rotation then). Out of line: it calls
+    /// `Emitter::le_env_at`, which calls it; the cycle kept `le_env_at` and `pdf_li_env_at`
+    /// out of the path loop for every environment-lit scene, moving or not.
+    #[inline(never)]
     pub fn le_env<const N: usize>(&self, d: Vec3, time: f32, wl: &Wavelengths<N>) -> Spectrum<N> {
         let local = self.motion.rotation.at(time).inverse() * d;
         self.light.le_env_at(local, time, wl)
     }
 
-    /// Solid-angle density of `sample_li` producing direction `d` at `time`.
+    /// Solid-angle density of `sample_li` producing direction `d` at `time` (out of line, as
+    /// `le_env`).
+    #[inline(never)]
     pub fn pdf_env(&self, d: Vec3, time: f32) -> f32 {
         let local = self.motion.rotation.at(time).inverse() * d;
         self.light.pdf_li_env_at(local, time)

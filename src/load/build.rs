@@ -41,9 +41,11 @@ pub fn load(path: &Path, edit: impl FnOnce(&mut SceneConfig)) -> Result<Job, Err
             let (mut cfg, warnings) = super::gltf::scene_for(&model)?;
             let camera = cfg.camera.clone();
             edit(&mut cfg);
-            // The file's camera follows its animation at the time the edits set.
-            super::gltf::animate_camera(&model, &camera, &mut cfg)?;
-            let mut job = super::gltf::with_model(model, || build(cfg, path))?;
+            // The file's camera follows its animation at the time the edits set (with an
+            // open shutter, as the node chain's motion).
+            let moving = super::gltf::animate_camera(&model, &camera, &mut cfg)?;
+            let mut job =
+                super::gltf::with_model(model, || build_moving(cfg, path, moving.as_ref()))?;
             job.warnings.splice(0..0, warnings);
             return Ok(job);
         }
@@ -65,12 +67,22 @@ pub fn load_str(text: &str, file: &Path) -> Result<Job, Error> {
 pub const MAX_NM: f32 = 1e5;
 
 /// Builds a job from a parsed config.
-pub fn build(mut cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
+pub fn build(cfg: SceneConfig, file: &Path) -> Result<Job, InputError> {
+    build_moving(cfg, file, None)
+}
+
+/// As `build`, with the camera moved by `camera` rather than by `cfg.camera.animation` (a
+/// glTF camera under animated nodes: `gltf::animate_camera`).
+pub(super) fn build_moving(
+    mut cfg: SceneConfig,
+    file: &Path,
+    camera: Option<&crate::motion::Motion>,
+) -> Result<Job, InputError> {
     let mut warnings = Vec::new();
     // Flow first: it builds the scene over the neighbouring frames from the animations.
-    let flow = super::flow::setup(&cfg, file)?;
+    let flow = super::flow::setup(&cfg, file, camera)?;
     // Time next: at an instant every animated transform becomes a static one.
-    let plan = super::motion::prepare(&mut cfg, file)?;
+    let plan = super::motion::prepare_moving(&mut cfg, file, camera)?;
 
     // Spectral settings come first: spectra are checked over the render's range.
     let range = super::settings::spectral_range(&cfg, file)?;

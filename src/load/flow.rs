@@ -15,7 +15,13 @@ use std::path::Path;
 
 /// The flow scene when `cfg.aovs` asks for a flow layer (None otherwise). Runs before the
 /// frame's own build, on the config as written (with its animations).
-pub fn setup(cfg: &SceneConfig, file: &Path) -> Result<Option<FlowScene>, InputError> {
+/// `camera`: the camera's motion where the config's animation does not give it (a glTF
+/// camera, `build::build_moving`).
+pub fn setup(
+    cfg: &SceneConfig,
+    file: &Path,
+    camera: Option<&Motion>,
+) -> Result<Option<FlowScene>, InputError> {
     let asked: Vec<(usize, Aov)> = cfg
         .aovs
         .iter()
@@ -26,7 +32,7 @@ pub fn setup(cfg: &SceneConfig, file: &Path) -> Result<Option<FlowScene>, InputE
         return Ok(None);
     };
     // The shutter's and the animations' own checks speak first.
-    super::motion::prepare(&mut cfg.clone(), file)?;
+    super::motion::prepare_moving(&mut cfg.clone(), file, camera)?;
     let fps = match cfg.camera.fps {
         None => {
             return Err(InputError::new(
@@ -64,7 +70,7 @@ pub fn setup(cfg: &SceneConfig, file: &Path) -> Result<Option<FlowScene>, InputE
         s.emitter = None;
     }
     let span = format!("[{}, {}] s", time - step, time + step);
-    let job = super::build(c, file).map_err(|mut e| {
+    let job = super::build::build_moving(c, file, camera).map_err(|mut e| {
         e.message = format!(
             "{} (building the flow layers' motion over {span})",
             e.message

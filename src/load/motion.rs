@@ -26,6 +26,16 @@ pub struct Plan {
 /// its value then and returns None; with an open shutter, writes each as its value at
 /// `open` (the pose the sidecar reports) and returns what moves (None if nothing does).
 pub fn prepare(cfg: &mut SceneConfig, file: &Path) -> Result<Option<Plan>, InputError> {
+    prepare_moving(cfg, file, None)
+}
+
+/// As `prepare`, with `given` the camera's motion from elsewhere (a glTF camera, checked by
+/// its loader) in place of `camera.animation`.
+pub fn prepare_moving(
+    cfg: &mut SceneConfig,
+    file: &Path,
+    given: Option<&Motion>,
+) -> Result<Option<Plan>, InputError> {
     let shutter = match cfg.camera.shutter {
         None => Shutter {
             open: 0.0,
@@ -35,7 +45,7 @@ pub fn prepare(cfg: &mut SceneConfig, file: &Path) -> Result<Option<Plan>, Input
         Some(s) => shutter(s, file)?,
     };
     let camera = match &cfg.camera.animation {
-        None => None,
+        None => given.cloned(),
         Some(a) => {
             let m = motion(a, !cfg.camera.to_world.is_empty(), file, "camera")?;
             camera_poses(&m, file)?;

@@ -85,14 +85,21 @@ impl Motion {
             .reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
     }
 
-    /// The transform at time `t`: T · R · S, under the parent's (parent · offset · T · R · S).
+    /// This motion's own track at time `t`, T · R · S, without its parent: the whole
+    /// transform of a motion with no parent (every RON camera, every single-track shape).
     #[inline]
-    pub fn matrix(&self, t: f32) -> Mat4 {
-        let own = Mat4::from_scale_rotation_translation(
+    pub fn own(&self, t: f32) -> Mat4 {
+        Mat4::from_scale_rotation_translation(
             self.scale.at(t),
             self.rotation.at(t),
             self.translation.at(t),
-        );
+        )
+    }
+
+    /// The transform at time `t`: T · R · S, under the parent's (parent · offset · T · R · S).
+    #[inline]
+    pub fn matrix(&self, t: f32) -> Mat4 {
+        let own = self.own(t);
         match &self.parent {
             None => own,
             Some(p) => p.motion.matrix(t) * p.offset * own,
@@ -221,7 +228,13 @@ impl Timing {
         let Some((motion, open_inv)) = &self.camera else {
             return ray;
         };
-        let rel = motion.matrix(time) * *open_inv;
+        // A chain-free motion (every RON camera) takes its own track inline: the recursive
+        // `matrix` is not inlined here, and this runs once per camera ray.
+        let at = match motion.parent {
+            None => motion.own(time),
+            Some(_) => motion.matrix(time),
+        };
+        let rel = at * *open_inv;
         let d = rel.transform_vector3(ray.d);
         let len = d.length();
         Ray {

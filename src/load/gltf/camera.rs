@@ -1,28 +1,24 @@
 //! The camera of a glTF file rendered directly (`prism render model.gltf`) when its node, or
-//! one node above it, is animated: posed at the render's instant, or, with an open shutter (and
-//! for the flow layers, whose scene spans the neighbouring frames), written as the camera's RON
-//! `animation`, so that it moves per ray through the same `motion::Timing` as a RON camera,
-//! rolling shutter included (no second moving camera).
+//! a node above it, is animated: posed at the render's instant, or, with an open shutter (and
+//! for the flow layers, whose scene spans the neighbouring frames), given the node chain's
+//! `Motion`, which the build hands to `motion::Timing` (`load::motion::prepare`), so that it
+//! moves per ray as a RON camera does, rolling shutter included (no second moving camera).
 //!
-//! The keys are exact, not a resampling. The camera's world transform is
-//! above · node(t) · below, with `above` (the static parents) and `below` (the static nodes
-//! down to the camera, and glTF's camera half-turn) rotations, translations and uniform
-//! scales. Such factors commute with slerp and with straight (or held) translation and scale,
-//! so keys at every key time of the node's channels, interpolated as the channels are, give
-//! the world transform at every time. Refused with an open shutter, naming the file, the node
-//! and the fix (each is posed exactly at an instant): a camera under two animated nodes (nested
-//! motion), a camera offset from a node that turns (it sweeps an arc, which no straight
-//! translation between keys follows), CUBICSPLINE channels (RON's `Cubic` keys take
-//! Catmull-Rom tangents, not the file's) and STEP mixed with LINEAR. Where the node turns
-//! by more than 90° between keys, keys are added on the way (`split_turns`).
+//! The motion is exact, not a resampling: it is the chain the walk poses meshes with
+//! (`Motion::under`), parent(t) · static nodes · node(t) · … · static nodes · half-turn, so
+//! nested animated nodes, a camera offset from a turning node (an arc), CUBICSPLINE channels
+//! and STEP mixed with LINEAR all move as the file says. Refused with an open shutter, naming
+//! the file, the node and the fix: a pose that is not a rotation, translation and uniform
+//! scale at some instant (a parent or scale key that scales unevenly, shears or mirrors: no
+//! R, t and K describe it, as `camera::pose_error` says for RON cameras).
 
-use super::animation::NodeTracks;
+use super::animation::Clip;
 use super::Model;
 use crate::camera::pose_error;
-use crate::config::{AnimationConfig, CameraConfig, Interpolation, KeyConfig, SceneConfig};
+use crate::config::{CameraConfig, SceneConfig};
 use crate::error::InputError;
 use crate::math::Transform;
-use crate::motion::Interp;
+use crate::motion::Motion;
 use glam::{Mat4, Vec4};
 
 /// glTF cameras look along −z with +x right; prism's along +z with +x left: a half-turn about y.
@@ -37,21 +33,18 @@ pub fn animate(
     model: &Model,
     before: &CameraConfig,
     cfg: &mut SceneConfig,
-) -> Result<(), InputError> {
+) -> Result<Option<Motion>, InputError> {
     if cfg.camera.to_world != before.to_world || cfg.camera.animation.is_some() {
-        return Ok(());
+        return Ok(None);
     }
     let Some(chain) = camera_chain(model) else {
-        return Ok(());
+        return Ok(None);
     };
     let Some(clip) = super::animation::read(model, None, &mut Vec::new())? else {
-        return Ok(());
+        return Ok(None);
     };
-    let animated: Vec<usize> = (0..chain.len())
-        .filter(|&i| clip.nodes.contains_key(&chain[i].index()))
-        .collect();
-    if animated.is_empty() {
-        return Ok(());
+    if !chain.iter().any(|n| clip.nodes.contains_key(&n.index())) {
+        return Ok(None);
     }
     let local = |n: &gltf::Node, t: f32| match clip.nodes.get(&n.index()) {
         Some(tr) => tr.local(n, t),
@@ -67,166 +60,61 @@ pub fn animate(
     if instant && !flow {
         let world = chain.iter().fold(Mat4::IDENTITY, |m, n| m * local(n, time)) * flip();
         cfg.camera.to_world = vec![super::lights::matrix_op(world)];
-        return Ok(());
+        return Ok(None);
     }
     let cam = &chain[chain.len() - 1];
-    let refuse = |why: String, hint: &str| {
-        InputError::new(
-            &model.path,
-            format!(
-                "the camera on node {} cannot move while the shutter is open: {why}",
-                node_name(cam)
-            ),
-        )
-        .field(format!("nodes[{}].camera", cam.index()))
-        .hint(format!(
-            "{hint}; or render instants (prism render --time T, or shutter open = close)"
-        ))
-    };
-    if animated.len() > 1 {
-        let names: Vec<String> = animated.iter().map(|&i| node_name(&chain[i])).collect();
-        return Err(refuse(
-            format!(
-                "it moves with {} animated nodes ({}): nested motion",
-                names.len(),
-                names.join(", ")
-            ),
-            "animate one node of the camera's branch (bake the others' motion into it)",
-        ));
-    }
-    let a = animated[0];
-    let node = &chain[a];
-    let tracks = &clip.nodes[&node.index()];
-    let above = chain[..a]
-        .iter()
-        .fold(Mat4::IDENTITY, |m, n| m * local(n, 0.0));
-    let below = chain[a + 1..]
-        .iter()
-        .fold(Mat4::IDENTITY, |m, n| m * local(n, 0.0))
-        * flip();
-    for (m, what) in [
-        (above, "its parents"),
-        (below, "the nodes between it and the animated node"),
-    ] {
-        let why = Transform::from_matrix(m).map_or(Some("a zero scale".into()), |t| pose_error(&t));
-        if let Some(why) = why {
-            return Err(refuse(
-                format!("{what} are not a rotation, translation and uniform scale ({why})"),
-                "give the camera's parents uniform scales, without shear or mirroring",
-            ));
-        }
-    }
-    let interp = interpolation(tracks).map_err(|why| {
-        refuse(
-            format!("{why} on node {}", node_name(node)),
-            "re-export the camera's animation with LINEAR (or STEP) channels",
-        )
-    })?;
-    let turns = tracks
-        .rotation
-        .as_ref()
-        .is_some_and(|r| r.values.windows(2).any(|w| w[0] != w[1]));
-    let offset = below.w_axis.truncate().length();
-    if turns && offset > 1e-6 * below.x_axis.truncate().length() {
-        return Err(refuse(
-            format!(
-                "it is {offset} units from the animated node {}, which turns, so it sweeps an arc",
-                node_name(node)
-            ),
-            "animate the camera's own node (or put the camera at its animated parent's origin)",
-        ));
-    }
-    // Every key time of a channel that moves; a channel of one key holds its value.
-    let mut times: Vec<f32> = [
-        tracks.translation.as_ref().map(|t| &t.times),
-        tracks.rotation.as_ref().map(|t| &t.times),
-        tracks.scale.as_ref().map(|t| &t.times),
-    ]
-    .into_iter()
-    .flatten()
-    .filter(|ts| ts.len() > 1)
-    .flatten()
-    .copied()
-    .collect();
-    times.sort_by(f32::total_cmp);
-    times.dedup();
-    let Some(interpolation) = interp.filter(|_| !times.is_empty()) else {
-        let world = above * local(node, time) * below;
-        cfg.camera.to_world = vec![super::lights::matrix_op(world)];
-        return Ok(());
-    };
-    if interpolation == Interpolation::Linear {
-        if let Some(r) = &tracks.rotation {
-            split_turns(&mut times, |t| r.at(t));
-        }
-    }
-    let mut keys = Vec::with_capacity(times.len());
-    for &t in &times {
-        let world = above * tracks.local(node, t) * below;
+    let motion = chain_motion(&chain, &clip);
+    // Every pose the camera takes: every key of every track of the chain and 64 instants
+    // between neighbouring keys (`Motion::samples`); outside the keys it holds the ends'.
+    let (lo, hi) = motion.key_span().unwrap_or((time, time));
+    for t in motion.samples(lo, hi) {
+        let world = motion.matrix(t);
         let why =
             Transform::from_matrix(world).map_or(Some("it is singular".into()), |t| pose_error(&t));
         if let Some(why) = why {
-            return Err(refuse(
-                format!("its pose at the key time {t} s is not a rotation, translation and uniform scale ({why})"),
-                "give the animated node uniform scale keys, without mirroring",
+            return Err(InputError::new(
+                &model.path,
+                format!(
+                    "the camera on node {} cannot move while the shutter is open: its pose at \
+                     {t} s is not a rotation, translation and uniform scale ({why})",
+                    node_name(cam)
+                ),
+            )
+            .field(format!("nodes[{}].camera", cam.index()))
+            .hint(
+                "give the camera's node and the nodes above it uniform scales (and scale keys), \
+                 without shear or mirroring; or render instants (prism render --time T, or \
+                 shutter open = close)",
             ));
         }
-        keys.push(KeyConfig {
-            time: t,
-            to_world: vec![super::lights::matrix_op(world)],
-        });
     }
-    cfg.camera.to_world = Vec::new();
-    cfg.camera.animation = Some(AnimationConfig {
-        interpolation,
-        keys,
-    });
-    Ok(())
+    cfg.camera.to_world = vec![super::lights::matrix_op(motion.matrix(time))];
+    Ok(Some(motion))
 }
 
-/// Keys a half-turn apart leave the way the camera turns to the decomposition of their
-/// matrices (q and −q are one rotation): keys are added at interval midpoints until
-/// neighbours are at most 90° apart (|q·q′| ≥ cos 45°). A midpoint lies on the slerp's arc
-/// and on the straight translation and scale, so the added keys change no pose.
-fn split_turns(times: &mut Vec<f32>, rotation: impl Fn(f32) -> glam::Quat) {
-    let mut k = 0;
-    // Each split halves an interval's turn: a few per half-turn; the cap keeps it finite.
-    while k + 1 < times.len() && times.len() < 1 << 16 {
-        let (a, b) = (times[k], times[k + 1]);
-        let mid = 0.5 * (a + b);
-        let far = rotation(a).dot(rotation(b)).abs() < std::f32::consts::FRAC_1_SQRT_2;
-        if far && mid > a && mid < b {
-            times.insert(k + 1, mid);
-        } else {
-            k += 1;
-        }
-    }
-}
-
-/// The interpolation of the node's moving channels (None: none moves), or why RON keys cannot
-/// follow them exactly.
-fn interpolation(tracks: &NodeTracks) -> Result<Option<Interpolation>, String> {
-    let interps = [
-        tracks
-            .translation
-            .as_ref()
-            .map(|t| (t.times.len(), t.interp)),
-        tracks.rotation.as_ref().map(|t| (t.times.len(), t.interp)),
-        tracks.scale.as_ref().map(|t| (t.times.len(), t.interp)),
-    ];
-    let mut found = None;
-    for (_, interp) in interps.into_iter().flatten().filter(|(n, _)| *n > 1) {
-        let this = match interp {
-            Interp::Linear => Interpolation::Linear,
-            Interp::Step => Interpolation::Step,
-            Interp::Cubic => return Err("its animation has a CUBICSPLINE channel".into()),
+/// The camera's world transform as a motion: each animated node of its branch carried by the
+/// one above through the static nodes between (`Motion::under`; the topmost folded into the
+/// static nodes above it where they allow, as the walk folds meshes), and the static nodes
+/// below the last, with glTF's camera half-turn, as a still motion under it. Exact at every
+/// time for every interpolation the importer reads: it is the product the walk poses.
+fn chain_motion(chain: &[gltf::Node], clip: &Clip) -> Motion {
+    let mut motion: Option<Motion> = None;
+    let mut between = Mat4::IDENTITY;
+    for n in chain {
+        let Some(tracks) = clip.nodes.get(&n.index()) else {
+            between *= Mat4::from_cols_array_2d(&n.transform().matrix());
+            continue;
         };
-        if found.is_some_and(|f| f != this) {
-            return Err("its animation mixes STEP and LINEAR channels".into());
-        }
-        found = Some(this);
+        let own = tracks.motion(n);
+        motion = Some(match motion.take() {
+            Some(m) => own.under(m, between),
+            None => super::animation::fold(between, own.clone())
+                .unwrap_or_else(|| own.under(Motion::still(), between)),
+        });
+        between = Mat4::IDENTITY;
     }
-    Ok(found)
+    let top = motion.unwrap_or_else(Motion::still);
+    Motion::still().under(top, between * flip())
 }
 
 /// `"Name" (nodes[i])`, or `nodes[i]` for a node without a name.
