@@ -383,3 +383,39 @@ fn frames_whose_scene_the_render_would_refuse_are_refused_at_check() {
     assert_eq!(manifest(&out), vec![0, 1, 2, 3]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A camera trajectory drawn so far out that the scene refuses it (a walk whose keys reach
+/// beyond 1e18, which 32-bit geometry cannot normalise) is the dataset's error while the frames
+/// are planned: exit 2 at `--check` and on a run, naming the dataset's `motion.camera` with the
+/// scene's words inside, and no output folder. Before, the message named the scene's
+/// `camera.animation.keys[0].to_world` as a field of the dataset file, with a hint about Scale
+/// and Matrix steps the user never wrote. (A shell drawn as far out is refused when the config
+/// is read: `camera.look_at.radius`.)
+#[test]
+fn a_drawn_camera_walk_the_scene_refuses_names_the_dataset_field() {
+    let dir = workdir("drawn-camera");
+    let walk = |t: String| {
+        t.replace(
+            "camera: Orbit(speed: (15, 35))",
+            "camera: Walk(speed: (1e20, 2e20), turn: 30)",
+        )
+    };
+    let cfg = sequence(&dir, &|t| t, &walk);
+    for args in [&["--check"][..], &[]] {
+        let out = dir.join(format!("walk{}", args.len()));
+        let o = dataset(&cfg, &out, args);
+        refused(
+            &o,
+            &[
+                "dataset.ron: motion.camera:",
+                "frame 0",
+                "camera.animation",
+                "`motion.camera`",
+            ],
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.contains("Scale and Matrix"), "{err}");
+        assert!(!out.exists(), "{args:?}: the output folder was made");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

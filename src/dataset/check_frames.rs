@@ -23,7 +23,7 @@ pub fn check(base: &Base, frames: &[u32]) -> Result<usize, InputError> {
         if !seen.insert(structure(&p.scene)) {
             continue;
         }
-        let cause = |e: InputError| refused(base, i, &p.scene, e);
+        let cause = |e: InputError| refused(base, i, &p.scene, e, true);
         crate::load::build(p.scene.clone(), &base.scene_file).map_err(cause)?;
     }
     Ok(seen.len())
@@ -73,23 +73,34 @@ fn structure(s: &SceneConfig) -> String {
 }
 
 /// The error of frame `i`'s scene `scene` as the dataset's: the field of the config that made
-/// it, the scene's own words inside.
-fn refused(base: &Base, i: u32, scene: &SceneConfig, e: InputError) -> InputError {
+/// it, the scene's own words inside. `planned`: the frame's plan is whole, so `--export-frame`
+/// can write its scene (not so for an error raised while the plan draws the camera's pose).
+pub(super) fn refused(
+    base: &Base,
+    i: u32,
+    scene: &SceneConfig,
+    e: InputError,
+    planned: bool,
+) -> InputError {
     let field = cause(base, scene, &e);
     let at = e.field.as_ref().map_or(String::new(), |f| format!(" {f}:"));
     let inner = format!("{}:{at} {}", e.file.display(), e.message);
-    let fix = format!(
-        "or change the dataset's `{field}` (`prism dataset {} --export-frame {i}` writes the frame's scene)",
-        base.file.display()
-    );
+    let fix = match planned {
+        true => format!(
+            "or change the dataset's `{field}` (`prism dataset {} --export-frame {i}` writes the frame's scene)",
+            base.file.display()
+        ),
+        false => format!("change the dataset's `{field}`: the values it drew make this"),
+    };
     InputError::new(
         &base.file,
         format!("frame {i}'s scene, as the dataset draws it, is refused: {inner}"),
     )
     .field(&field)
+    // The scene's own hint speaks of steps the user wrote; a drawn pose has none.
     .hint(match e.hint {
-        Some(h) => format!("{h}; {fix}"),
-        None => fix,
+        Some(h) if planned => format!("{h}; {fix}"),
+        _ => fix,
     })
 }
 

@@ -138,11 +138,16 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
             cfg.fov = fov;
             cfg.to_world = ops;
             let mut posed = None;
-            if view::in_view(&cfg, &scene, &base.file, &watched, &bounds)? {
+            // A drawn pose or trajectory the scene refuses is the dataset's error, named by
+            // its field (`camera`, `motion.camera`), not the scene's.
+            let drawn = |e| super::check_frames::refused(base, i, &scene, e, false);
+            let file = &base.scene_file;
+            if view::in_view(&cfg, &scene, file, &watched, &bounds).map_err(drawn)? {
                 // In a sequence, also at every frame's pose of the camera and the shapes.
                 let mut trial = scene.clone();
                 trial.camera = cfg.clone();
-                let ok = view::throughout(base, i, &trial, &shown, &watched, &bounds)?;
+                let ok =
+                    view::throughout(base, i, &trial, &shown, &watched, &bounds).map_err(drawn)?;
                 posed = ok.then_some(cfg);
             }
             if let Some(cfg) = posed {

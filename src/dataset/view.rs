@@ -58,7 +58,7 @@ pub fn throughout(
     let mut placed = Vec::with_capacity(watched.len());
     for &k in watched {
         let field = format!("shapes[{k}]");
-        let m = crate::load::transform(&scene.shapes[k].to_world, &base.file, &field)?.m;
+        let m = crate::load::transform(&scene.shapes[k].to_world, &base.scene_file, &field)?.m;
         placed.push(m.inverse());
     }
     let shutter = c.motion.as_ref().map_or(0.0, |m| m.shutter.max(0.0)) / c.fps;
@@ -69,13 +69,14 @@ pub fn throughout(
     for t in times.flatten() {
         let mut at = poses.clone();
         crate::load::motion::set_time(&mut at, t);
-        crate::load::motion::prepare(&mut at, &base.file)?;
-        let camera = camera(&at.camera, &at, &base.file)?;
+        crate::load::motion::prepare(&mut at, &base.scene_file)?;
+        let camera = camera(&at.camera, &at, &base.scene_file)?;
         for (j, &k) in watched.iter().enumerate() {
             let m = match poses.shapes[j].animation {
                 Some(_) => {
                     let field = format!("shapes[{k}]");
-                    let now = crate::load::transform(&at.shapes[j].to_world, &base.file, &field)?;
+                    let now =
+                        crate::load::transform(&at.shapes[j].to_world, &base.scene_file, &field)?;
                     now.m * placed[j]
                 }
                 None => Mat4::IDENTITY,
