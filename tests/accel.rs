@@ -8,7 +8,7 @@
 //! accepted.
 
 use glam::{Mat4, Vec3};
-use prism::accel::{Accel, AccelKind, Prim};
+use prism::accel::{Accel, AccelKind, Bvh, Prim};
 use prism::math::rng::Pcg32;
 use prism::math::Transform;
 use prism::ray::Ray;
@@ -367,79 +367,102 @@ fn pair_test_matches_packet_test() {
 }
 
 /// One BVH leaf of two 4-triangle packets (so, on AVX2 CPUs, the two-packet test inside the
-/// traversal): the 8 triangles of a 2×2 grid, each lifted to its own depth, so their xy
-/// outlines share edges while the triangles do not. Rays straight down through the shared
-/// diagonal edges make an edge function exactly zero (the redo lanes and the scalar
-/// test) in both packets at once, and which triangle is nearest then depends on every lane
-/// being kept in its own packet; oblique random rays cover the plain lanes. The BVH must give
-/// brute force's nearest distance and occlusion answer for each ray.
+/// traversal, `Triangle4::intersect_pair_avx2`; elsewhere the packet-by-packet loop): the four
+/// halves of a 2×2 square (cut along either diagonal), each twice, each triangle at its own
+/// height; and the same 8 again 10 units away (obvhs merges no leaves in a tree of fewer than
+/// 10 primitives). Every box of a group is its square, so the builder keeps each group in one
+/// leaf (asserted through `Bvh::triangle_leaves`). Rays straight down through the diagonals, the sides and the
+/// corners make edge functions exactly zero (the redo lanes, tested one by one) in both
+/// packets at once, and which triangle is nearest then depends on each packet's lanes being its
+/// own; oblique random rays cover the plain lanes. Six orders of the heights, so the nearest
+/// triangle falls in either packet and in different lanes. The BVH must give brute force's
+/// nearest distance and occlusion answer for each ray, with this CPU's code and the portable
+/// code.
 ///
-/// Tolerance: exact (the same primitive code on both sides; the depths differ, so the nearest
-/// triangle is unique and its t decides it). It does not yet prove the two-packet leaf code:
-/// giving the second packet the first's redo lanes did not fail it, so the builder likely
-/// splits these 8 triangles into two leaves (issue 26 note); the pair test itself is held by
-/// `pair_test_matches_packet_test` and whole images by tests/packet.rs.
+/// Tolerance: exact (the same primitive code on both sides; the heights differ, so the nearest
+/// triangle is unique and its t decides it). Broken on purpose, giving the second packet the
+/// first's redo lanes in the two-packet leaf (`redo_closest(.., b, h.redo & 0xf, ..)`), it fails.
 #[test]
 fn bvh_matches_brute_force_in_a_two_packet_leaf_at_different_depths() {
-    let depth = [0.3f32, 0.1, 0.7, 0.5, 0.2, 0.8, 0.4, 0.6];
-    let (mut positions, mut indices) = (Vec::new(), Vec::new());
-    let corner = |i: u32| Vec3::new((i % 3) as f32, (i / 3) as f32, 0.0);
-    for y in 0..2u32 {
-        for x in 0..2u32 {
-            let i = y * 3 + x;
-            for tri in [[i, i + 1, i + 4], [i, i + 4, i + 3]] {
-                let z = depth[indices.len()];
-                let n = positions.len() as u32;
-                positions.extend(tri.map(|k| corner(k) + Vec3::Z * z));
-                indices.push([n, n + 1, n + 2]);
+    let halves = [
+        [(0.0, 0.0), (2.0, 0.0), (0.0, 2.0)],
+        [(2.0, 0.0), (2.0, 2.0), (0.0, 2.0)],
+        [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0)],
+        [(0.0, 0.0), (2.0, 2.0), (0.0, 2.0)],
+    ];
+    let orders: [[usize; 8]; 6] = [
+        [0, 1, 2, 3, 4, 5, 6, 7],
+        [7, 6, 5, 4, 3, 2, 1, 0],
+        [3, 1, 6, 0, 7, 5, 2, 4],
+        [4, 2, 5, 7, 0, 6, 1, 3],
+        [1, 7, 0, 5, 2, 4, 3, 6],
+        [6, 0, 4, 2, 5, 3, 7, 1],
+    ];
+    let mut rays = Vec::new();
+    let mut rng = Pcg32::new(7, 11);
+    for dx in [0.0, 10.0] {
+        // Straight down on a 9×9 lattice over the square: its sides, diagonals and corners.
+        for i in 0..9 {
+            for j in 0..9 {
+                let (x, y) = (dx + 0.25 * i as f32, 0.25 * j as f32);
+                rays.push(Ray::new(Vec3::new(x, y, 3.0), -Vec3::Z));
             }
         }
-    }
-    let mesh = Shape::Mesh(Mesh {
-        positions,
-        normals: vec![],
-        uvs: vec![],
-        indices,
-        normal_map: None,
-    });
-    let p = prims(&[mesh]);
-    let bvh = Accel::build(p.clone(), AccelKind::Bvh);
-    let brute = Accel::build(p, AccelKind::BruteForce);
-    let mut rays = Vec::new();
-    // Straight down through the shared diagonal edge of each tile. Not through the tiles'
-    // borders (x or y = 0, 1, 2): a ray with a zero direction component lying exactly in a
-    // plane of a BVH box is lost by the slab test (0 · ∞ is NaN), packet path or not, a
-    // limitation of its own (docs/performance.md), not this test's subject.
-    for (x0, y0) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
-        for s in [0.25, 0.5, 0.75] {
-            rays.push(Ray::new(Vec3::new(x0 + s, y0 + s, 3.0), -Vec3::Z));
+        for _ in 0..1000 {
+            let (x, y) = (0.1 + 1.8 * rng.next_f32(), 0.1 + 1.8 * rng.next_f32());
+            let target = Vec3::new(dx + x, y, 0.15);
+            let from = Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, 1.0).normalize();
+            rays.push(Ray::new(target + from * 3.0, -from));
         }
     }
-    let mut rng = Pcg32::new(7, 11);
-    for _ in 0..2000 {
-        let target = Vec3::new(0.1 + 1.8 * rng.next_f32(), 0.1 + 1.8 * rng.next_f32(), 0.5);
-        let from = Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, 1.0).normalize();
-        rays.push(Ray::new(target + from * 3.0, -from));
+    for n in 0..orders.len() {
+        let (mut positions, mut indices) = (Vec::new(), Vec::new());
+        for (group, dx) in [(0, 0.0), (1, 10.0)] {
+            for (k, &rank) in orders[(n + 3 * group) % 6].iter().enumerate() {
+                // Heights 0.1 to 0.17: close, so no split of the leaf pays.
+                let z = 0.1 + 0.01 * rank as f32;
+                let first = positions.len() as u32;
+                positions.extend(halves[k % 4].map(|(x, y)| Vec3::new(dx + x, y, z)));
+                indices.push([first, first + 1, first + 2]);
+            }
+        }
+        let mesh = Shape::Mesh(Mesh {
+            positions,
+            normals: vec![],
+            uvs: vec![],
+            indices,
+            normal_map: None,
+        });
+        let p = prims(&[mesh]);
+        let brute = Accel::build(p.clone(), AccelKind::BruteForce);
+        for (code, bvh) in [
+            ("this CPU's", Bvh::build(p.clone())),
+            ("portable", Bvh::build(p.clone()).portable()),
+        ] {
+            assert_eq!(
+                bvh.triangle_leaves(),
+                vec![vec![4, 4]; 2],
+                "order {n}: not two leaves of two full packets"
+            );
+            let mut hits = 0;
+            for ray in &rays {
+                let (a, b) = (bvh.intersect(ray), brute.intersect(ray));
+                assert_eq!(
+                    a.map(|h| h.hit.t.to_bits()),
+                    b.map(|h| h.hit.t.to_bits()),
+                    "order {n}, {code} code: ray from {} along {}: {a:?} against {b:?}",
+                    ray.o,
+                    ray.d
+                );
+                let occluded = bvh.occluded(ray);
+                assert_eq!(occluded, brute.occluded(ray), "{} {}", ray.o, ray.d);
+                hits += b.is_some() as u32;
+            }
+            // All 81 straight rays, and most oblique ones (those near the sides may pass beside).
+            assert!(
+                hits > 1800,
+                "order {n}: the rays miss the leaves ({hits} hits)"
+            );
+        }
     }
-    let mut hits = 0;
-    for ray in &rays {
-        let (a, b) = (bvh.intersect(ray), brute.intersect(ray));
-        assert_eq!(
-            a.map(|h| h.hit.t.to_bits()),
-            b.map(|h| h.hit.t.to_bits()),
-            "ray from {} along {}",
-            ray.o,
-            ray.d
-        );
-        assert_eq!(
-            bvh.occluded(ray),
-            brute.occluded(ray),
-            "{} {}",
-            ray.o,
-            ray.d
-        );
-        hits += b.is_some() as u32;
-    }
-    // 1,843 of the 2,012 hit here (oblique rays near the border pass beside the tilted grid).
-    assert!(hits > 1700, "the rays miss the leaf ({hits} hits)");
 }

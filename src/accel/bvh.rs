@@ -98,6 +98,28 @@ impl Bvh {
         )
     }
 
+    /// Test hook (tests/accel.rs): the triangles in each packet of each triangle leaf.
+    #[doc(hidden)]
+    pub fn triangle_leaves(&self) -> Vec<Vec<usize>> {
+        let used = |p: &Triangle4| p.ids.iter().filter(|&&id| id != u32::MAX).count();
+        let leaves = self.triangles.leaves().into_iter();
+        leaves
+            .map(|(first, n)| {
+                let packets = &self.packets[first as usize..(first + n) as usize];
+                packets.iter().map(used).collect()
+            })
+            .collect()
+    }
+
+    /// Test hook (tests/accel.rs, tests/accel_planes.rs): the portable node and leaf tests,
+    /// those of a CPU without AVX2, on any CPU.
+    #[doc(hidden)]
+    pub fn portable(mut self) -> Self {
+        self.triangles.avx2 = false;
+        self.shapes.avx2 = false;
+        self
+    }
+
     /// Closest hit.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {

@@ -202,6 +202,24 @@ impl Tree {
     }
 }
 
+impl Tree {
+    /// Each leaf's first item and item count, in node order (a test hook: `Bvh::triangle_leaves`).
+    pub fn leaves(&self) -> Vec<(u32, u32)> {
+        let decode = |c: u32| ((c & !LEAF) >> 3, (c & 7) + 1);
+        if self.root == EMPTY {
+            return Vec::new();
+        }
+        if self.root & LEAF != 0 {
+            return vec![decode(self.root)];
+        }
+        let nodes = self.nodes.iter().flat_map(|n| n.child);
+        nodes
+            .filter(|&c| c != EMPTY && c & LEAF != 0)
+            .map(decode)
+            .collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

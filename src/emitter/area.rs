@@ -38,6 +38,8 @@ pub struct AreaEmitter {
     /// Textured meshes: each triangle's area density, pmf / area (0 for a triangle never
     /// picked); empty otherwise (the density is then 1 / area everywhere).
     tri_pdf: Vec<f32>,
+    /// Meshes: each triangle's `Mesh::winding_normal`, so a sample does not recompute it.
+    normals: Vec<Vec3>,
 }
 
 /// uv at barycentrics `b` of triangle `i`, as `Mesh::surface` computes it.
@@ -115,12 +117,17 @@ impl AreaEmitter {
                 (Some(d), pdf)
             }
         };
+        let normals = match shape {
+            Shape::Mesh(m) => (0..m.indices.len()).map(|i| m.winding_normal(i)).collect(),
+            _ => Vec::new(),
+        };
         Self {
             shape: shape_index,
             radiance,
             triangles,
             area: shape.area(),
             tri_pdf,
+            normals,
         }
     }
 
@@ -142,7 +149,7 @@ impl AreaEmitter {
             Shape::Mesh(m) => {
                 let (tri, _, ux) = self.triangles.as_ref().unwrap().sample_discrete(u.x);
                 let b = square_to_triangle(Vec2::new(ux, u.y));
-                let (p, p_error, n) = m.point(tri, b.x, b.y);
+                let (p, p_error, n) = m.point_with_normal(tri, b.x, b.y, self.normals[tri]);
                 AreaSample {
                     p,
                     p_error,
@@ -185,7 +192,7 @@ impl AreaEmitter {
         let pdf_area = self.tri_pdf[tri];
         let (p, p_error, n, uv) = match shape {
             Shape::Mesh(m) => {
-                let (p, p_error, n) = m.point(tri, b.x, b.y);
+                let (p, p_error, n) = m.point_with_normal(tri, b.x, b.y, self.normals[tri]);
                 (p, p_error, n, mesh_uv(m, tri, b))
             }
             Shape::Instance(inst) => {

@@ -37,12 +37,25 @@ pub trait Corners {
 /// emitter sampling needs, without the shading frame.
 #[inline(always)]
 pub fn point<C: Corners>(c: &C, b1: f32, b2: f32) -> (Vec3, Vec3, Vec3) {
+    point_with_normal(c, b1, b2, winding_normal(c.p(0), c.p(1), c.p(2)))
+}
+
+/// The unit normal of the triangle p0 p1 p2 by its winding (zero if degenerate): the same
+/// for every point of it, so area lights keep it per triangle (`point_with_normal`).
+#[inline(always)]
+pub fn winding_normal(p0: Vec3, p1: Vec3, p2: Vec3) -> Vec3 {
+    (p1 - p0).cross(p2 - p0).normalize_or_zero()
+}
+
+/// `point`, given the triangle's `winding_normal` (the same bits as `point` computes).
+#[inline(always)]
+pub fn point_with_normal<C: Corners>(c: &C, b1: f32, b2: f32, winding: Vec3) -> (Vec3, Vec3, Vec3) {
     let (p0, p1, p2) = (c.p(0), c.p(1), c.p(2));
     let b0 = 1.0 - b1 - b2;
     // Barycentric interpolation is more accurate than o + t·d, and its error is bounded.
     let p = b0 * p0 + b1 * p1 + b2 * p2;
     let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
-    let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+    let mut ng = winding;
     if c.has_normals() {
         // The geometric normal follows the shading normal's side, so "front" is the side
         // the vertex normals point to, whatever the winding.

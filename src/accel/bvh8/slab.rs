@@ -1,4 +1,17 @@
 //! The ray–box slab test of one node's eight children.
+//!
+//! A ray with a zero direction component whose origin lies exactly in a plane of a box (an
+//! orthographic camera looking along an axis at geometry on a grid, an axis-aligned shadow ray)
+//! gets the slab distance (plane − o) · (1/d) = 0 · ∞ = NaN on that axis. The distances are
+//! folded into the entry and exit with the NaN on the discarded side: x86's `maxps(a, b)` and
+//! `minps(a, b)` return `b` when either is NaN, so each slab distance goes first and the running
+//! bound (0, or `t_max`, never NaN) second, and a NaN slab leaves the bound as it was. That is
+//! pbrt-v4's `Bounds3::IntersectP` (`t0 = tNear > t0 ? tNear : t0`: a NaN `tNear` compares
+//! false). The ray then counts as inside the closed slab, as the watertight triangle test counts
+//! a ray along an edge as a hit. Embree instead replaces |d| < 1e-18 by +1e-18 before the
+//! reciprocal (`rcp_safe`/`zero_fix`), as prism did with ±1e-30: that moves the ray off the
+//! plane to one side, so the box on the other side gets an exit distance of 0 and is missed,
+//! with the triangle in it (docs/performance.md, "Paths in lanes", third stop).
 
 use super::{Node, ROBUST, W};
 use crate::ray::Ray;
@@ -7,26 +20,39 @@ use wide::{f32x4, CmpLe};
 /// Per-ray constants of the slab test.
 pub(super) struct BoxQuery {
     o: [f32; 3],
+    /// 1/d per axis: ±inf for a zero component (the slab distances are then ±inf, or NaN in
+    /// the slab's planes, which the test discards).
     inv: [f32; 3],
     /// Index into `Node::b` of the plane the ray enters first on each axis (the far one is
     /// `near ^ 1`).
     near: [usize; 3],
 }
 
+/// `max(slab, bound)` that keeps `bound` where `slab` is NaN (`bound` is never NaN): `maxps`
+/// on x86 (its NaN rule, the AVX2 path's), the NaN-ignoring max elsewhere.
+#[inline(always)]
+fn enter(slab: f32x4, bound: f32x4) -> f32x4 {
+    if cfg!(target_feature = "sse") {
+        slab.fast_max(bound)
+    } else {
+        slab.max(bound)
+    }
+}
+
+/// `min(slab, bound)` that keeps `bound` where `slab` is NaN, as `enter`.
+#[inline(always)]
+fn exit(slab: f32x4, bound: f32x4) -> f32x4 {
+    if cfg!(target_feature = "sse") {
+        slab.fast_min(bound)
+    } else {
+        slab.min(bound)
+    }
+}
+
 impl BoxQuery {
     #[inline(always)]
     pub(super) fn new(ray: &Ray) -> Self {
-        // A zero direction component becomes a tiny one of the same sign, so the slab distances
-        // are ±huge (never 0 · inf = NaN) and a ray in a slab's plane still counts as inside.
-        let inv = |d: f32| {
-            let d = if d.abs() < 1e-30 {
-                1e-30f32.copysign(d)
-            } else {
-                d
-            };
-            1.0 / d
-        };
-        let (ix, iy, iz) = (inv(ray.d.x), inv(ray.d.y), inv(ray.d.z));
+        let (ix, iy, iz) = (1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z);
         Self {
             o: ray.o.to_array(),
             inv: [ix, iy, iz],
@@ -40,7 +66,8 @@ impl BoxQuery {
 
     /// Which of the node's boxes the ray meets within [0, t_max] (bit per lane); `t` gets the
     /// distance at which it enters each. Per lane: near = max(slab entries, 0), far =
-    /// min(slab exits, t_max) · ROBUST, met if near <= far; both paths do exactly this.
+    /// min(slab exits, t_max) · ROBUST, met if near <= far, a NaN slab distance ignored (module
+    /// doc); both paths do exactly this, in this order.
     #[inline(always)]
     pub(super) fn test<const AVX2: bool>(&self, node: &Node, t_max: f32, t: &mut [f32; W]) -> u32 {
         #[cfg(target_arch = "x86_64")]
@@ -58,8 +85,8 @@ impl BoxQuery {
             let (x0, x1) = slab(0);
             let (y0, y1) = slab(1);
             let (z0, z1) = slab(2);
-            let t_near = x0.fast_max(y0).fast_max(z0.fast_max(f32x4::ZERO));
-            let t_far = x1.fast_min(y1).fast_min(z1.fast_min(f32x4::splat(t_max))) * ROBUST;
+            let t_near = enter(x0, enter(y0, enter(z0, f32x4::ZERO)));
+            let t_far = exit(x1, exit(y1, exit(z1, f32x4::splat(t_max)))) * ROBUST;
             t[4 * half..4 * half + 4].copy_from_slice(t_near.as_array_ref());
             mask |= (t_near.cmp_le(t_far).move_mask() as u32 & 0xf) << (4 * half);
         }
@@ -85,14 +112,16 @@ impl BoxQuery {
         let (x0, x1) = slab(0);
         let (y0, y1) = slab(1);
         let (z0, z1) = slab(2);
+        // The slab distance first, the bound second: `vmaxps`/`vminps` return the second
+        // operand when either is NaN (module doc).
         let t_near = _mm256_max_ps(
-            _mm256_max_ps(x0, y0),
-            _mm256_max_ps(z0, _mm256_setzero_ps()),
+            x0,
+            _mm256_max_ps(y0, _mm256_max_ps(z0, _mm256_setzero_ps())),
         );
         let t_far = _mm256_mul_ps(
             _mm256_min_ps(
-                _mm256_min_ps(x1, y1),
-                _mm256_min_ps(z1, _mm256_set1_ps(t_max)),
+                x1,
+                _mm256_min_ps(y1, _mm256_min_ps(z1, _mm256_set1_ps(t_max))),
             ),
             _mm256_set1_ps(ROBUST),
         );

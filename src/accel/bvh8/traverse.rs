@@ -36,8 +36,9 @@ impl Tree {
         leaf: impl FnMut(u32, u32, &mut f32, bool) -> Visit,
     ) -> bool {
         // A ray with a NaN or infinite origin or direction meets nothing: its slab distances
-        // would be NaN, which every lane's test lets through, unused lanes included (whose
-        // child, EMPTY, would then be read as a leaf past the end of the caller's items).
+        // would be NaN, which the node test ignores (a ray in a slab's plane), so every lane
+        // would pass, unused lanes included (whose child, EMPTY, would then be read as a leaf
+        // past the end of the caller's items).
         if self.root == EMPTY || !(ray.o.is_finite() && ray.d.is_finite()) {
             return false;
         }
