@@ -44,7 +44,9 @@ fn hintless() -> Vec<(String, String)> {
     let mut found = Vec::new();
     for f in files {
         let text = std::fs::read_to_string(&f).unwrap();
-        let text = match text.find("#[cfg(test)]") {
+        // Up to the tests module: a `#[cfg(test)]` on a statement (a counter in `gltf::open`)
+        // once hid the rest of its file from the audit.
+        let text = match text.find("#[cfg(test)]\nmod ") {
             Some(i) => &text[..i],
             None => &text[..],
         };

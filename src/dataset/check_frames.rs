@@ -97,7 +97,7 @@ pub(super) fn refused(
         format!("frame {i}'s scene, as the dataset draws it, is refused: {inner}"),
     )
     .field(&field)
-    // The scene's own hint speaks of steps the user wrote; a drawn pose has none.
+    // The scene's own hint speaks of steps the user wrote, and a drawn pose has none.
     .hint(match e.hint {
         Some(h) if planned => format!("{h}; {fix}"),
         _ => fix,

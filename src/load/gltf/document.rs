@@ -43,7 +43,8 @@ pub(super) fn load(
             )
             .hint("check the file with the Khronos glTF validator")
         }
-        e => InputError::new(path, format!("invalid glTF: {e}")),
+        e => InputError::new(path, format!("invalid glTF: {e}"))
+            .hint("check the file with the Khronos glTF validator"),
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
     let mut blob = blob;
