@@ -34,7 +34,7 @@ impl Overrides {
         self.spp.is_some() || self.seed.is_some() || self.aovs.is_some() || self.sensor.is_some()
     }
 
-    /// The CLI's edit of the parsed config for these flags (src/cli.rs `render`).
+    /// The CLI's edit of the parsed config for these flags (src/cli/mod.rs `render`).
     fn edit(&self, cfg: &mut prism_core::config::SceneConfig) {
         if let Some(spp) = self.spp {
             cfg.sampler.spp = prism_core::config::Spp::Fixed(spp);

@@ -6,7 +6,7 @@
   changes pixels), and the EXR's metadata must record B. `--threads` changes no pixel (renders
   are deterministic at any thread count) and the summary line reports it; `--exposure` is
   checked through the preview.
-- `--help` lists every field of `RenderArgs` (read from src/cli.rs and the structs it flattens, so a
+- `--help` lists every field of `RenderArgs` (read from src/cli/ and the structs it flattens, so a
   new flag is covered).
 - The EXR read by OpenImageIO (not by prism's own `exr` crate, and not by a byte search): every
   channel float32, every prism:* attribute present with the value the run used.
@@ -139,10 +139,11 @@ def test_threads_change_no_pixel_and_are_reported(prism_bin, tmp_path):
 
 
 def render_args_fields() -> list[str]:
-    """The fields of `RenderArgs` in src/cli.rs, as flags (the positional `scene` left out); a
-    `#[command(flatten)]` field stands for the fields of its struct (in src/cli.rs, src/cli/ or
+    """The fields of `RenderArgs` in src/cli/ (args.rs), as flags (the positional `scene` left
+    out); a `#[command(flatten)]` field stands for the fields of its struct (in src/cli/ or
     src/pipeline/workers.rs, where the worker flags shared with `prism dataset` live)."""
-    files = [ROOT / "src/cli.rs", *sorted((ROOT / "src/cli").glob("*.rs")), ROOT / "src/pipeline/workers.rs"]
+    files = [*sorted((ROOT / "src/cli").glob("*.rs")), ROOT / "src/pipeline/workers.rs"]
+    assert any("pub struct RenderArgs" in f.read_text() for f in files), "RenderArgs moved: update this list"
     src = "\n".join(f.read_text() for f in files)
 
     def fields(struct: str) -> list[str]:
