@@ -2,6 +2,7 @@
 //! `ds[i]` reads frame i), picklable by its path for a PyTorch `DataLoader`'s workers; and
 //! `prism.run_dataset`, which runs `prism dataset` in this process.
 
+use crate::render::SIGNAL_POLL;
 use crate::to_py;
 use numpy::{PyArray1, PyArrayMethods};
 use prism_core::dataset::cli::DatasetArgs;
@@ -10,6 +11,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::BTreeSet;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
 
 #[pyclass(frozen, module = "prism")]
 pub struct Dataset {
@@ -186,10 +189,44 @@ pub fn run_dataset(
             quiet: !progress,
         },
     };
-    let code = py
-        .detach(|| prism_core::dataset::cli::main(&args))
-        .map_err(to_py)?;
-    if code != 0 {
+    // The run goes on a worker thread without the GIL; this thread takes the GIL back now
+    // and then to run Python's signal handlers (Ctrl-C), which stop the run before its next
+    // frame: the frames done are listed, so a rerun resumes.
+    let stop = AtomicBool::new(false);
+    let (summary, interrupted) = std::thread::scope(|sc| {
+        let (tx, rx) = mpsc::channel();
+        let (args, stop) = (&args, &stop);
+        sc.spawn(move || {
+            let _ = tx.send(prism_core::dataset::cli::main(args, Some(stop)));
+        });
+        let mut rx = rx;
+        let mut interrupted = None;
+        loop {
+            let (got, back) = py.detach(move || (rx.recv_timeout(SIGNAL_POLL), rx));
+            rx = back;
+            match got {
+                Ok(r) => return (r, interrupted),
+                Err(mpsc::RecvTimeoutError::Timeout) => {}
+                Err(mpsc::RecvTimeoutError::Disconnected) => {
+                    let e = pyo3::exceptions::PyRuntimeError::new_err(
+                        "the dataset thread stopped without a result",
+                    );
+                    return (Ok(Default::default()), Some(e));
+                }
+            }
+            if interrupted.is_none() {
+                if let Err(e) = py.check_signals() {
+                    stop.store(true, Ordering::Relaxed);
+                    interrupted = Some(e);
+                }
+            }
+        }
+    });
+    let summary = summary.map_err(to_py)?;
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    if summary.failed > 0 {
         return Err(pyo3::exceptions::PyRuntimeError::new_err(format!(
             "some frames of {} failed (see the messages above); a rerun retries them",
             args.config.display()

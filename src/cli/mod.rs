@@ -71,10 +71,15 @@ where
             std::io::stdin().lock(),
             std::io::stdout().lock(),
         ),
-        Command::Dataset(args) => match crate::dataset::cli::main(&args) {
-            Ok(code) => return code,
-            Err(e) => Err(e),
-        },
+        Command::Dataset(args) => {
+            // SIGINT/SIGTERM: remove the temporaries being written, exit 130/143.
+            output::interrupt::install();
+            match crate::dataset::cli::main(&args, None) {
+                // Exit code 1 if a frame failed.
+                Ok(s) => return i32::from(s.failed > 0),
+                Err(e) => Err(e),
+            }
+        }
     };
     match result {
         Ok(()) => 0,

@@ -1,8 +1,9 @@
 //! `prism dataset CONFIG -o OUT`: the command line of the dataset runner.
 
-use super::run::{self, Options};
+use super::run::{self, Options, Summary};
 use crate::error::{Error, InputError};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 #[derive(clap::Args, Debug)]
 pub struct DatasetArgs {
@@ -41,8 +42,10 @@ pub struct DatasetArgs {
     pub workers: crate::pipeline::WorkerArgs,
 }
 
-/// Runs `prism dataset`; exit code 1 if a frame failed.
-pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
+/// Runs `prism dataset` in this process; `stop` ends it before the next frame. Signals are
+/// the caller's: the CLI installs its SIGINT/SIGTERM handler, a library user (the Python
+/// module) keeps its own, so its forked workers can still be terminated.
+pub fn main(args: &DatasetArgs, stop: Option<&AtomicBool>) -> Result<Summary, Error> {
     let frames = args
         .frames
         .as_deref()
@@ -50,8 +53,6 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
         .transpose()?;
     let shard = shard(args, &|k| std::env::var(k).ok())?;
     let pool = crate::pipeline::worker_pool(args.workers.threads, &args.config)?;
-    // SIGINT/SIGTERM: remove the temporaries being written, exit 130/143.
-    crate::output::interrupt::install();
     let opts = Options {
         frames,
         shard,
@@ -60,9 +61,9 @@ pub fn main(args: &DatasetArgs) -> Result<i32, Error> {
         export_frame: args.export_frame,
         check: args.check,
         verify: args.verify,
+        stop,
     };
-    let s = pool.install(|| run::run(&args.config, &args.output, &opts))?;
-    Ok(if s.failed > 0 { 1 } else { 0 })
+    pool.install(|| run::run(&args.config, &args.output, &opts))
 }
 
 fn arg_error(config: &Path, field: &str, message: impl Into<String>) -> Error {

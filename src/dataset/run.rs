@@ -11,10 +11,11 @@ use serde_json::json;
 use sha2::{Digest, Sha256};
 use std::io::IsTerminal;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// What to run.
-pub struct Options {
+pub struct Options<'a> {
     /// Frames `lo..hi` (half-open); None: all.
     pub frames: Option<(u32, u32)>,
     /// (this shard, number of shards): frame i belongs to shard i mod n.
@@ -28,6 +29,9 @@ pub struct Options {
     /// Read every listed frame's files in full (not trusting sizes and mtimes); damaged frames
     /// are dropped from the manifest and rendered again.
     pub verify: bool,
+    /// Set (by the Python module's Ctrl-C) to stop before the next frame; the frames done so
+    /// far are listed, so a rerun resumes.
+    pub stop: Option<&'a AtomicBool>,
 }
 
 /// The run's tally.
@@ -37,6 +41,8 @@ pub struct Summary {
     pub skipped: u32,
     pub failed: u32,
     pub seconds: f64,
+    /// The run ended early at `Options::stop`.
+    pub stopped: bool,
 }
 
 /// The identity of a dataset in `dataset.json`: its config, its base scene, the SHA-256 of
@@ -75,7 +81,7 @@ pub fn identity(base: &Base) -> Result<serde_json::Value, Error> {
 }
 
 /// The frames this process renders: the range, then this shard's share of it.
-pub fn selection(base: &Base, opts: &Options) -> Result<Vec<u32>, InputError> {
+pub fn selection(base: &Base, opts: &Options<'_>) -> Result<Vec<u32>, InputError> {
     let n = base.config.frames;
     let (lo, hi) = opts.frames.unwrap_or((0, n));
     if lo >= hi || hi > n {
@@ -93,7 +99,7 @@ pub fn selection(base: &Base, opts: &Options) -> Result<Vec<u32>, InputError> {
 }
 
 /// Runs the dataset at `file` into `out`.
-pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
+pub fn run(file: &Path, out: &Path, opts: &Options<'_>) -> Result<Summary, Error> {
     let t0 = Instant::now();
     let mut base = Base::load(file)?;
     // Once per run, also at --check: what `prism render` of its frames would warn about.
@@ -235,6 +241,10 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
         .take()
         .map_or_else(frame::GeometryCache::default, frame::GeometryCache::seed);
     for (n, &i) in todo.iter().enumerate() {
+        if opts.stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+            summary.stopped = true;
+            break;
+        }
         let result = plan::plan(&base, i)
             .map_err(Error::from)
             .and_then(|p| {
@@ -306,11 +316,16 @@ pub fn run(file: &Path, out: &Path, opts: &Options) -> Result<Summary, Error> {
     }
     summary.seconds = t0.elapsed().as_secs_f64();
     crate::error::note(format_args!(
-        "dataset: {} frame(s) selected: {} rendered, {} skipped (already done), {} failed, in {:.2} s (geometry built {} time(s)) -> {}",
+        "dataset: {} frame(s) selected: {} rendered, {} skipped (already done), {} failed{}, in {:.2} s (geometry built {} time(s)) -> {}",
         frames.len(),
         summary.rendered,
         summary.skipped,
         summary.failed,
+        if summary.stopped {
+            ", stopped early (a rerun resumes)"
+        } else {
+            ""
+        },
         summary.seconds,
         cache.builds,
         out.root.display()

@@ -17,7 +17,9 @@ fn temps() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
     TEMPS.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// Starts the thread that handles SIGINT and SIGTERM (once per process; the CLI calls it).
+/// Starts the thread that handles SIGINT and SIGTERM (once per process). Only the CLI calls
+/// it: in a host process (Python) the handler would outlive the call, turn Ctrl-C into an exit
+/// and leave forked children deaf to SIGTERM, their handler thread not being forked.
 #[cfg(unix)]
 pub fn install() {
     use signal_hook::consts::{SIGINT, SIGTERM};
