@@ -266,3 +266,53 @@ fn dataset_fixed_seed_sample() {
     assert!(ok > 5 && refused > 5, "{ok} ran, {refused} refused");
     eprintln!("{ok} ran, {refused} refused");
 }
+
+/// The CPU bound follows the samples a case asks for (examples/fuzz/engine/work.rs): run 13's
+/// case 731603 (2 frames of 80×6 at 32,768 spp; 30.6 s of CPU alone, exit 0) was a "hang" at
+/// the flat 20 s. Exact sample counts (the text's numbers multiplied), the bound 20 s + 5 µs
+/// per sample, capped at 600 s; small cases keep 20 s; `max_spp:` is not `spp:`.
+#[test]
+fn the_cpu_bound_grows_with_the_samples_a_case_asks_for() {
+    let scene = "(film: (width: 8, height: 6), sampler: (spp: 1), camera: (fov: 40))";
+    let case = |config: Option<&str>| engine::Case {
+        index: 0,
+        what: String::new(),
+        scene: scene.into(),
+        file: None,
+        dataset: config.map(|c| engine::DatasetCase {
+            config: c.into(),
+            prime_config: String::new(),
+            prime_scene: String::new(),
+            state: engine::OutState::Absent,
+            flags: vec!["--force".into()],
+        }),
+    };
+    let found = case(Some(
+        "(scene: \"scene.ron\", frames: 2, seed: 3, outputs: (spp: 32768, resolution: (80, 6)))",
+    ));
+    assert_eq!(engine::samples_asked(&found), 2.0 * 32768.0 * 80.0 * 6.0);
+    let bound = engine::limits_for(&found, &LIMITS).cpu_seconds;
+    assert_eq!(bound, 20 + 157, "20 s + 31,457,280 × 5 µs");
+    assert!(
+        bound as f64 > 2.0 * 30.6,
+        "{bound} s leaves no margin over 30.6 s"
+    );
+
+    // A render case runs at --spp 1: its film alone.
+    let render = case(None);
+    assert_eq!(engine::samples_asked(&render), 48.0);
+    assert_eq!(engine::limits_for(&render, &LIMITS).cpu_seconds, 20);
+
+    let huge = case(Some(
+        "(outputs: (spp: 1e30, resolution: (1e9, 1e9)), max_spp: 9e40)",
+    ));
+    assert_eq!(engine::limits_for(&huge, &LIMITS).cpu_seconds, 600);
+    let other = case(Some(
+        "(outputs: (resolution: (4, 4)), max_spp: 9e9, integrator: (max_depth: 8))",
+    ));
+    assert_eq!(
+        engine::samples_asked(&other),
+        2.0 * 8.0 * 6.0,
+        "spp 1 from the scene, film 8×6"
+    );
+}

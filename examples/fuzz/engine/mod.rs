@@ -15,6 +15,7 @@ mod dataset;
 mod mutate;
 mod oracle;
 mod seeds;
+mod work;
 
 // The driver and the test each use part of the engine.
 #[allow(unused_imports)]
@@ -31,6 +32,8 @@ pub use oracle::{
 #[allow(unused_imports)]
 pub use oracle::{run_case_binary, run_case_in_process};
 pub use seeds::load_seeds;
+#[allow(unused_imports)]
+pub use work::{limits_for, samples_asked};
 
 /// What an input file is (decides the mutations and the scene that uses it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -172,6 +172,8 @@ pub fn run_case_binary(
     repo: &Path,
     limits: &Limits,
 ) -> (Verdict, String) {
+    // The CPU bound grows with the samples the case asks for (engine/work.rs).
+    let limits = &super::work::limits_for(case, limits);
     let Some(d) = &case.dataset else {
         let scene = materialise(case, dir, repo);
         return run_binary(bin, &scene, dir, limits);
