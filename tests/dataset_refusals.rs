@@ -106,6 +106,16 @@ fn bad_input_is_refused_before_any_frame_renders() {
         &["dataset.ron: --threads", "at least 1"],
     );
     assert!(!dir.join("t").exists());
+    // 10^6 threads took minutes to start (rayon starts up to 65,535 per pool).
+    refused(
+        &dataset(&cfg, &dir.join("t"), &["--threads", "1000000"]),
+        &[
+            "dataset.ron: --threads",
+            "more than the 1024",
+            "hint: give at most 1024",
+        ],
+    );
+    assert!(!dir.join("t").exists());
     // --force starts the dataset over.
     ok(&dataset(&cfg2, &out, &["--force", "--frames", "0"]));
     assert_eq!(manifest(&out), vec![0]);

@@ -6,11 +6,13 @@ use crate::render::SIGNAL_POLL;
 use crate::to_py;
 use numpy::{PyArray1, PyArrayMethods};
 use prism_core::dataset::cli::DatasetArgs;
+use prism_core::io::input_file::{self, Kind};
 use prism_core::pipeline::WorkerArgs;
+use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::BTreeSet;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 
@@ -22,16 +24,29 @@ pub struct Dataset {
 }
 
 /// The frame numbers of every manifest line that parses (a torn last line after a crash is
-/// skipped, as prism_tools does).
-fn finished_frames(root: &std::path::Path) -> std::io::Result<Vec<u32>> {
-    let text = std::fs::read_to_string(root.join("manifest.jsonl"))?;
+/// skipped, as prism_tools does; so is a frame number no dataset has, past u32, which would
+/// otherwise wrap onto another frame's files).
+fn finished_frames(root: &Path) -> Result<Vec<u32>, String> {
+    // A regular file only: a FIFO or /dev/zero as the manifest would be read forever.
+    let bytes = input_file::read(&root.join("manifest.jsonl"), Kind::Manifest)?;
+    let text = String::from_utf8_lossy(&bytes);
     let set: BTreeSet<u32> = text
         .lines()
         .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
-        .filter_map(|v| v.get("frame")?.as_u64())
-        .map(|f| f as u32)
+        .filter_map(|v| u32::try_from(v.get("frame")?.as_u64()?).ok())
         .collect();
     Ok(set.into_iter().collect())
+}
+
+/// A frame's file as text (its sidecar), read as the manifest is; errors name the file.
+fn read_text(path: &Path) -> PyResult<String> {
+    let bytes = input_file::read(path, Kind::Asset).map_err(PyOSError::new_err)?;
+    String::from_utf8(bytes).map_err(|e| {
+        PyOSError::new_err(format!(
+            "{}: the frame's sidecar is not UTF-8 text ({e}); rerun `prism dataset` on the folder to redo the frame",
+            path.display()
+        ))
+    })
 }
 
 #[pymethods]
@@ -39,7 +54,7 @@ impl Dataset {
     #[new]
     fn new(path: PathBuf) -> PyResult<Self> {
         let frames = finished_frames(&path).map_err(|e| {
-            pyo3::exceptions::PyOSError::new_err(format!(
+            PyOSError::new_err(format!(
                 "{}: no dataset here ({e}); `prism dataset CONFIG -o {}` makes one",
                 path.join("manifest.jsonl").display(),
                 path.display()
@@ -68,9 +83,19 @@ impl Dataset {
         let exr = base.with_extension("exr");
         let channels = py
             .detach(|| read_exr(&exr))
-            .map_err(|e| pyo3::exceptions::PyOSError::new_err(format!("{}: {e}", exr.display())))?;
-        let side = std::fs::read_to_string(base.with_extension("json"))
-            .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
+            .map_err(|e| PyOSError::new_err(format!("{}: {e}", exr.display())))?;
+        let side_path = base.with_extension("json");
+        let side = read_text(&side_path)?;
+        let metadata = py
+            .import("json")?
+            .call_method1("loads", (side,))
+            .map_err(|e| {
+                PyOSError::new_err(format!(
+                    "{}: the frame's sidecar is not valid JSON ({}); rerun `prism dataset` on the folder to redo the frame",
+                    side_path.display(),
+                    e.value(py)
+                ))
+            })?;
         let d = PyDict::new(py);
         let mut bands: Vec<(f32, Vec<f32>)> = Vec::new();
         let mut shape = [0usize; 2];
@@ -88,6 +113,14 @@ impl Dataset {
         }
         bands.sort_by(|a, b| a.0.total_cmp(&b.0));
         let px = shape[0] * shape[1];
+        // prism writes one layer size; another file's layers of other sizes would index past
+        // a band's samples.
+        if bands.iter().any(|b| b.1.len() != px) {
+            return Err(PyOSError::new_err(format!(
+                "{}: the spectral channels differ in size, which prism never writes; rerun `prism dataset` on the folder to redo the frame",
+                exr.display()
+            )));
+        }
         let mut cube = Vec::with_capacity(px * bands.len());
         for p in 0..px {
             cube.extend(bands.iter().map(|b| b.1[p]));
@@ -97,10 +130,7 @@ impl Dataset {
         d.set_item("spectral", cube)?;
         d.set_item("wavelengths", PyArray1::from_vec(py, wl))?;
         d.set_item("frame", frame)?;
-        d.set_item(
-            "metadata",
-            py.import("json")?.call_method1("loads", (side,))?,
-        )?;
+        d.set_item("metadata", metadata)?;
         Ok(d)
     }
 
@@ -130,7 +160,7 @@ enum Samples {
 }
 
 /// Every channel of the EXR as (full name, width, height, samples); half floats widened.
-fn read_exr(path: &std::path::Path) -> Result<Vec<(String, usize, usize, Samples)>, String> {
+fn read_exr(path: &Path) -> Result<Vec<(String, usize, usize, Samples)>, String> {
     use exr::prelude::*;
     let img = read()
         .no_deep_data()
@@ -141,7 +171,11 @@ fn read_exr(path: &std::path::Path) -> Result<Vec<(String, usize, usize, Samples
         // No rayon: a DataLoader's workers are forked from a process whose rayon threads (its
         // renders') do not exist in the child, where a parallel read would wait for them forever.
         .non_parallel()
-        .from_file(path)
+        // Opened as an input file: a FIFO or device in its place is refused, not read forever.
+        .from_buffered(std::io::BufReader::new(input_file::open(
+            path,
+            Kind::Asset,
+        )?))
         .map_err(|e| e.to_string())?;
     let mut out = Vec::new();
     for layer in img.layer_data {

@@ -52,10 +52,25 @@ impl Overrides {
     }
 }
 
+/// Runs `f` (a scene load or rebuild) on a pool of its own, ended when `f` returns. The BVH
+/// builder (obvhs) runs on rayon's current pool, which outside one is rayon's global pool: a
+/// process-wide set of threads a call would leave behind, and which a child forked from this
+/// process (a `DataLoader`'s or `multiprocessing`'s worker) inherits without its threads, so
+/// the child's first load waited for them forever.
+pub fn in_pool<T: Send>(
+    threads: Option<usize>,
+    file: &Path,
+    f: impl FnOnce() -> T + Send,
+) -> Result<T, Error> {
+    Ok(pipeline::worker_pool(threads, file)?.install(f))
+}
+
 /// Loads a scene file as `prism render` does (RON or glTF by its name).
 pub fn load_file(path: &Path, o: &Overrides) -> Result<Job, Error> {
     prism_core::resources::configure(None, o.threads);
-    prism_core::load::load(path, |cfg| o.edit(cfg))
+    in_pool(o.threads, path, || {
+        prism_core::load::load(path, |cfg| o.edit(cfg))
+    })?
 }
 
 /// Builds a scene from a parsed config; `file` names it in errors and anchors relative paths.
@@ -66,7 +81,9 @@ pub fn build(
 ) -> Result<Job, Error> {
     prism_core::resources::configure(None, o.threads);
     o.edit(&mut cfg);
-    Ok(prism_core::load::build(cfg, file)?)
+    Ok(in_pool(o.threads, file, || {
+        prism_core::load::build(cfg, file)
+    })??)
 }
 
 /// Builds `cfg` (the scene's current config, `source`'s with its parameters set) in full with
@@ -80,10 +97,12 @@ pub fn rebuild(
     match source {
         Source::File(p) => {
             prism_core::resources::configure(None, o.threads);
-            prism_core::load::load(p, |c| {
-                *c = cfg.clone();
-                o.edit(c)
-            })
+            in_pool(o.threads, p, || {
+                prism_core::load::load(p, |c| {
+                    *c = cfg.clone();
+                    o.edit(c)
+                })
+            })?
         }
         Source::Config => build(cfg.clone(), file, o),
     }
@@ -105,7 +124,9 @@ pub fn relight(
     cfg: prism_core::config::SceneConfig,
     file: &Path,
 ) -> Result<(), Error> {
-    let (r, read) = prism_core::io::inputs::collect(|| prism_core::load::relight(job, cfg, file));
+    let (r, read) = in_pool(None, file, || {
+        prism_core::io::inputs::collect(|| prism_core::load::relight(job, cfg, file))
+    })?;
     r?;
     for p in read {
         if !job.inputs.contains(&p) {

@@ -20,6 +20,12 @@ fn variant<T: serde::de::DeserializeOwned>(name: &str, what: &str, choices: &str
     })
 }
 
+/// Whether `(lo, hi)` nm is a range a scene may render: positive, increasing, at most
+/// `load::MAX_NM` (the loader's `spectral.range` check).
+fn valid_range((lo, hi): (f32, f32)) -> bool {
+    lo.is_finite() && lo > 0.0 && lo < hi && hi <= prism_core::load::MAX_NM
+}
+
 /// Draws wavelengths for `u` (M,) as a render does: each row's hero at u and N − 1 companions
 /// at u + j/N (mod 1). Returns (wavelengths, pdf), each (M, N), pdf in 1/nm.
 fn sample(
@@ -57,9 +63,9 @@ pub fn sample_wavelengths(
 ) -> PyResult<(Py<PyAny>, Py<PyAny>)> {
     let kind: WavelengthSampling = variant(sampling, "sampling", "\"Visible\", \"Uniform\"")?;
     let (lo, hi) = range;
-    if kind == WavelengthSampling::Sensor || !(lo > 0.0 && lo < hi && hi.is_finite()) {
+    if kind == WavelengthSampling::Sensor || !valid_range(range) {
         return Err(SceneError::new_err(format!(
-            "sample_wavelengths takes sampling \"Visible\" or \"Uniform\" over a positive, increasing range (got {sampling:?}, {range:?}); a scene's sensor sampling is scene.sample_wavelengths"
+            "sample_wavelengths takes sampling \"Visible\" or \"Uniform\" over a positive, increasing range that ends by {} nm (got {sampling:?}, {range:?}); a scene's sensor sampling is scene.sample_wavelengths", prism_core::load::MAX_NM
         )));
     }
     sample(
@@ -93,6 +99,15 @@ pub fn spectrum<'py>(
             )))
         }
     };
+    // The loader's check of a scene's `spectral.range`: a spectrum resolved over a range
+    // reaching 1e9 nm tabulates it nm by nm (minutes, gigabytes), and an empty or reversed
+    // one gives values for nothing.
+    if !valid_range(range) {
+        return Err(SceneError::new_err(format!(
+            "spectrum: range {range:?} must be positive and increasing and end by {} nm, as a scene's spectral.range; give e.g. range=(360, 830)",
+            prism_core::load::MAX_NM
+        )));
+    }
     let file = Path::new("<spectrum>");
     let text = to_json(py, spec, file, "the spectrum")?;
     let v: serde_json::Value = serde_json::from_str(&text).expect("json.dumps writes JSON");
@@ -144,6 +159,9 @@ pub fn cie_xyz<'py>(
     Ok(numpy::PyArray1::from_vec(py, v).reshape(shape)?.into_any())
 }
 
+/// The most numbers one `sampler_stream` call returns (f32: 1 GiB).
+const MAX_NUMBERS: u64 = 1 << 28;
+
 /// The numbers a render's sampler gives: for each row i, sample `sample[i]` of pixel
 /// `pixel[i]` (y · width + x) under (`kind`, `seed`), dimensions `start` .. `start + count`
 /// (camera: film x, y, wavelength, spare; then 8 per bounce). Shape (M, count).
@@ -160,6 +178,15 @@ pub fn sampler_stream<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let kind: SamplerKind = variant(kind, "sampler", "\"Independent\", \"Sobol\"")?;
     arrays::same_len(sample.len(), pixel.len(), "sample")?;
+    // The output is allocated whole: a count past what memory holds would abort the process.
+    let total = (pixel.len() as u64).saturating_mul(count as u64);
+    if total > MAX_NUMBERS {
+        return Err(SceneError::new_err(format!(
+            "sampler_stream: {} rows × count={count} is {total} numbers, more than the \
+             {MAX_NUMBERS} (1 GiB) one call returns; ask for fewer rows or dimensions per call",
+            pixel.len()
+        )));
+    }
     let v = py.detach(|| {
         let mut v = Vec::with_capacity(pixel.len() * count);
         for (&p, &s) in pixel.iter().zip(&sample) {

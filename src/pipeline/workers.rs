@@ -27,6 +27,10 @@ pub fn zero_spp(file: &Path) -> crate::error::InputError {
     )
 }
 
+/// The most worker threads a render starts: far above any machine's cores (oversubscribing
+/// helps no render), far below the thread counts that take the process minutes to start.
+pub const MAX_THREADS: usize = 1024;
+
 /// The worker threads of `--threads N` (default: one per core), for every subcommand that
 /// renders; `--threads 0` is refused naming `file` (the scene or config the command was given).
 pub fn worker_pool(threads: Option<usize>, file: &Path) -> Result<rayon::ThreadPool, Error> {
@@ -37,6 +41,20 @@ pub fn worker_pool(threads: Option<usize>, file: &Path) -> Result<rayon::ThreadP
                 .hint("give a positive number, or leave --threads out for one thread per core")
                 .into(),
         );
+    }
+    if let Some(t) = threads.filter(|&t| t > MAX_THREADS) {
+        // Each pool starts its threads up front: 10^6 of them (rayon stops at 65,535) took
+        // minutes before a pixel was rendered, and a Python caller could not interrupt it.
+        return Err(crate::error::InputError::new(
+            file,
+            format!("--threads {t} is more than the {MAX_THREADS} worker threads prism starts"),
+        )
+        .field("--threads")
+        .hint(format!(
+            "give at most {MAX_THREADS} (this machine has {} cores), or leave --threads out for one thread per core",
+            std::thread::available_parallelism().map_or(1, |n| n.get())
+        ))
+        .into());
     }
     let mut b = rayon::ThreadPoolBuilder::new();
     if let Some(t) = threads {
