@@ -12,7 +12,7 @@ use prism::accel::{Accel, AccelKind, Bvh, Prim};
 use prism::math::rng::Pcg32;
 use prism::math::Transform;
 use prism::ray::Ray;
-use prism::shape::triangle::{RayShear, RayShear4, Triangle4};
+use prism::shape::triangle::{RayShear, Triangle4};
 use prism::shape::{Disk, Mesh, Shape, Sphere};
 
 fn v3(rng: &mut Pcg32, s: f32) -> Vec3 {
@@ -322,7 +322,7 @@ fn pair_test_matches_packet_test() {
             continue;
         }
         let ray = Ray::new(o, d.normalize());
-        let s4 = RayShear4::new(&RayShear::new(&ray));
+        let s4 = RayShear::new(&ray);
         let t_max = if next() < 0.2 {
             next() * 8.0
         } else {
