@@ -7,9 +7,10 @@ use crate::bsdf::Material;
 use crate::camera::Camera;
 use crate::emitter::Emitter;
 use crate::interaction::SurfaceInteraction;
+use crate::math::Frame;
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
-use crate::shape::Shape;
+use crate::shape::{PrimHit, Shape, SurfacePoint};
 use glam::Vec2;
 
 /// What moves in a scene with an open shutter (`Scene::with_motion`).
@@ -47,6 +48,9 @@ pub struct Scene {
     instances: Option<crate::accel::instances::Instances>,
     /// Triangles of the instances, counted per instance (for `primitive_count`).
     instanced_prims: usize,
+    /// Per shape: the shading frame of each triangle of a flat mesh (`Mesh::is_flat`), so a
+    /// hit need not rebuild it (`flat_frames`); empty for other shapes.
+    shape_frames: Vec<Box<[Frame]>>,
     /// Shapes moving while the shutter is open (`accel::moving`); None in static scenes.
     moving: Option<crate::accel::moving::Moving>,
     /// The shutter interval and the camera's motion; None when the scene is rendered at an
@@ -130,6 +134,7 @@ impl Scene {
         let (t0, t1) = motions.timing.as_ref().map_or((0.0, 0.0), |t| t.span);
         let moving = crate::accel::moving::Moving::build(moving, t0, t1);
         Scene {
+            shape_frames: flat_frames(&shapes),
             moving,
             timing: motions.timing.map(|t| Box::new(t.timing)),
             instances,
@@ -192,7 +197,7 @@ impl Scene {
             None => self.flat_hit(self.accel.intersect(ray)?),
             Some(inst) => self.intersect_two_level(inst, ray)?,
         };
-        let s = self.shapes[shape as usize].surface(local as usize, ray, &h.hit);
+        let s = self.surface(shape, local, ray, &h.hit);
         Some(SurfaceInteraction {
             p: s.p,
             p_error: s.p_error,
@@ -205,6 +210,25 @@ impl Scene {
             time: ray.time,
             bary: Vec2::new(h.hit.b1, h.hit.b2),
         })
+    }
+
+    /// Surface data at a hit of primitive `prim` of shape `shape`: `Shape::surface`, with a flat
+    /// mesh's kept frame where it has one (the same bits).
+    #[inline(always)]
+    fn surface(&self, shape: u32, prim: u32, ray: &Ray, hit: &PrimHit) -> SurfacePoint {
+        let sh = &self.shapes[shape as usize];
+        let frames = &self.shape_frames[shape as usize];
+        if let (Shape::Mesh(m), Some(f)) = (sh, frames.get(prim as usize)) {
+            let s = m.flat_surface(prim as usize, hit.b1, hit.b2, f);
+            return SurfacePoint {
+                p: s.p,
+                p_error: s.p_error,
+                ng: s.ng,
+                frame: s.frame,
+                uv: s.uv,
+            };
+        }
+        sh.surface(prim as usize, ray, hit)
     }
 
     /// The closest hit of a scene with instances: the flat structure's, then the instances'
@@ -301,4 +325,22 @@ impl Scene {
     pub fn instance_counts(&self) -> (usize, usize, u64) {
         self.instances.as_ref().map_or((0, 0, 0), |i| i.counts())
     }
+}
+
+/// Most triangles whose frames a scene keeps (`flat_frames`): 36 bytes each, 2.4 MB in all, a
+/// table that stays in the caches; flat meshes beyond it rebuild their frames at each hit.
+const FLAT_FRAMES_MAX: usize = 1 << 16;
+
+/// The frames of the triangles of the flat meshes among `shapes` (`Scene::shape_frames`), in
+/// shape order while their count stays within `FLAT_FRAMES_MAX`; empty for every other shape.
+fn flat_frames(shapes: &[Shape]) -> Vec<Box<[Frame]>> {
+    let mut left = FLAT_FRAMES_MAX;
+    let frames = |s: &Shape| match s {
+        Shape::Mesh(m) if m.is_flat() && m.indices.len() <= left => {
+            left -= m.indices.len();
+            (0..m.indices.len()).map(|i| m.flat_frame(i)).collect()
+        }
+        _ => Box::default(),
+    };
+    shapes.iter().map(frames).collect()
 }

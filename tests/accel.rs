@@ -12,7 +12,7 @@ use prism::accel::{Accel, AccelKind, Bvh, Prim};
 use prism::math::rng::Pcg32;
 use prism::math::Transform;
 use prism::ray::Ray;
-use prism::shape::triangle::{RayShear, RayShear4, Triangle4};
+use prism::shape::triangle::{RayShear, Triangle4};
 use prism::shape::{Disk, Mesh, Shape, Sphere};
 
 fn v3(rng: &mut Pcg32, s: f32) -> Vec3 {
@@ -322,7 +322,7 @@ fn pair_test_matches_packet_test() {
             continue;
         }
         let ray = Ray::new(o, d.normalize());
-        let s4 = RayShear4::new(&RayShear::new(&ray));
+        let s4 = RayShear::new(&ray);
         let t_max = if next() < 0.2 {
             next() * 8.0
         } else {
@@ -464,5 +464,76 @@ fn bvh_matches_brute_force_in_a_two_packet_leaf_at_different_depths() {
                 "order {n}: the rays miss the leaves ({hits} hits)"
             );
         }
+    }
+}
+
+/// A flat mesh's hits take the frame the scene keeps per triangle (`Scene::intersect`,
+/// `Mesh::flat_surface`); they must carry exactly what `Shape::surface` computes at the same
+/// barycentrics: point, error bound, normal, frame and uv bit for bit. The Cornell box (flat
+/// rectangles and cubes with uvs) and a soup of flat triangles without uvs, 20,000 rays each
+/// from random points in random directions (most meet the box, about 1,700 the soup).
+/// Tolerance: none (the kept frame is the one `surface` builds).
+#[test]
+fn flat_mesh_hits_match_the_shapes_surface_bit_for_bit() {
+    use prism::shape::PrimHit;
+    let path = std::path::Path::new("scenes/cornell.ron");
+    let text = std::fs::read_to_string(path).unwrap();
+    let scene = prism::load::load_str(&text, path).unwrap().scene;
+    let mut rng = Pcg32::new(5, 9);
+    let soup = random_shapes(&mut rng, 300).remove(0);
+    let Shape::Mesh(m) = &soup else { panic!() };
+    assert!(m.uvs.is_empty() && m.is_flat());
+    let (cam, mats) = (scene.camera.clone(), scene.materials.clone());
+    let shapes = vec![soup.clone()];
+    let soup_scene = prism::scene::Scene::new(
+        cam,
+        shapes,
+        vec![0],
+        vec![None],
+        mats,
+        vec![],
+        AccelKind::Bvh,
+    );
+    for (name, scene, size, min) in [
+        ("cornell", &scene, 1.0, 10000),
+        ("soup", &soup_scene, 10.0, 1000),
+    ] {
+        let mut hits = 0;
+        for _ in 0..20000 {
+            let ray = Ray::new(v3(&mut rng, size), v3(&mut rng, 1.0).normalize_or(Vec3::X));
+            let Some(si) = scene.intersect(&ray) else {
+                continue;
+            };
+            let shape = &scene.shapes[si.shape as usize];
+            let h = PrimHit {
+                t: si.t,
+                b1: si.bary.x,
+                b2: si.bary.y,
+            };
+            let want = shape.surface(si.prim as usize, &ray, &h);
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            let got = [si.p, si.p_error, si.ng, si.frame.s, si.frame.t, si.frame.n].map(bits);
+            let exp = [
+                want.p,
+                want.p_error,
+                want.ng,
+                want.frame.s,
+                want.frame.t,
+                want.frame.n,
+            ];
+            assert_eq!(
+                got,
+                exp.map(bits),
+                "{name}: shape {} triangle {}",
+                si.shape,
+                si.prim
+            );
+            assert_eq!(
+                si.uv.to_array().map(f32::to_bits),
+                want.uv.to_array().map(f32::to_bits)
+            );
+            hits += 1;
+        }
+        assert!(hits > min, "{name}: too few hits ({hits})");
     }
 }

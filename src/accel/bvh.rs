@@ -5,7 +5,7 @@
 use super::bvh8::{Tree, Visit, MAX_LEAF_ITEMS};
 use super::{Hit, Prim};
 use crate::ray::Ray;
-use crate::shape::triangle::{self, RayShear, RayShear4, Triangle4};
+use crate::shape::triangle::{self, RayShear, Triangle4};
 use crate::shape::{PrimGeom, PrimHit};
 use glam::Vec3;
 use obvhs::aabb::Aabb;
@@ -127,13 +127,12 @@ impl Bvh {
         let mut best = None;
         if !self.packets.is_empty() {
             let shear = RayShear::new(ray);
-            let shear4 = RayShear4::new(&shear);
             self.triangles.traverse_isa::<true>(
                 ray,
                 &mut t_max,
                 #[inline(always)]
                 |first, count, t_max, avx2| {
-                    let tris = (&shear, &shear4, avx2);
+                    let tris = (&shear, avx2);
                     self.closest_triangle(first, count, tris, t_max, &mut best);
                     Visit::Continue
                 },
@@ -167,7 +166,7 @@ impl Bvh {
         &self,
         first: u32,
         count: u32,
-        (shear, shear4, avx2): (&RayShear, &RayShear4, bool),
+        (shear, avx2): (&RayShear, bool),
         t_max: &mut f32,
         best: &mut Option<Hit>,
     ) {
@@ -175,7 +174,7 @@ impl Bvh {
         #[cfg(target_arch = "x86_64")]
         if let ([a, b], true) = (packets, avx2) {
             // SAFETY: `avx2` is true only inside `traverse_avx2` (an AVX2 CPU, AVX2 code).
-            let h = unsafe { Triangle4::intersect_pair_avx2(a, b, shear4, *t_max) };
+            let h = unsafe { Triangle4::intersect_pair_avx2(a, b, shear, *t_max) };
             let hit = |k: usize| PrimHit {
                 t: h.t[k],
                 b1: h.b1[k],
@@ -198,7 +197,7 @@ impl Bvh {
         }
         let _ = avx2;
         for p in packets {
-            let h = p.intersect(shear4, *t_max);
+            let h = p.intersect(shear, *t_max);
             for lane in lanes(h.mask) {
                 let hit = PrimHit {
                     t: h.t[lane],
@@ -218,7 +217,7 @@ impl Bvh {
         &self,
         first: u32,
         count: u32,
-        (shear, shear4, avx2): (&RayShear, &RayShear4, bool),
+        (shear, avx2): (&RayShear, bool),
         t_max: f32,
     ) -> bool {
         let packets = &self.packets[first as usize..(first + count) as usize];
@@ -228,13 +227,13 @@ impl Bvh {
         #[cfg(target_arch = "x86_64")]
         if let ([a, b], true) = (packets, avx2) {
             // SAFETY: `avx2` is true only inside `traverse_avx2` (an AVX2 CPU, AVX2 code).
-            let h = unsafe { Triangle4::intersect_pair_avx2(a, b, shear4, t_max) };
+            let h = unsafe { Triangle4::intersect_pair_avx2(a, b, shear, t_max) };
             return h.mask != 0 || redo_hits(a, h.redo & 0xf) || redo_hits(b, h.redo >> 4);
         }
         let _ = avx2;
         // A plain loop: `Iterator::any` was not inlined into the traversal.
         for p in packets {
-            let h = p.intersect(shear4, t_max);
+            let h = p.intersect(shear, t_max);
             if h.mask != 0 || redo_hits(p, h.redo) {
                 return true;
             }
@@ -255,13 +254,12 @@ impl Bvh {
         };
         if !self.packets.is_empty() {
             let shear = RayShear::new(ray);
-            let shear4 = RayShear4::new(&shear);
             let blocked = self.triangles.traverse_isa::<false>(
                 ray,
                 &mut t_max,
                 #[inline(always)]
                 |first, count, t_max, avx2| {
-                    let tris = (&shear, &shear4, avx2);
+                    let tris = (&shear, avx2);
                     stop_if(self.any_triangle(first, count, tris, *t_max))
                 },
             );

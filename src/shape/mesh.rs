@@ -138,6 +138,29 @@ impl Mesh {
         tri_surface::surface(&self.corners(i), b1, b2)
     }
 
+    /// Whether every triangle's shading frame is the same at all its points (no vertex normals,
+    /// no normal map: `tri_surface::is_flat`).
+    pub fn is_flat(&self) -> bool {
+        self.normals.is_empty() && self.normal_map.is_none()
+    }
+
+    /// The shading frame of triangle `i` of a flat mesh (`is_flat`), as `surface` gives it.
+    pub fn flat_frame(&self, i: usize) -> crate::math::Frame {
+        tri_surface::flat_frame(&self.corners(i))
+    }
+
+    /// `surface` of triangle `i` of a flat mesh, given its `flat_frame` (the same bits).
+    #[inline(always)]
+    pub fn flat_surface(
+        &self,
+        i: usize,
+        b1: f32,
+        b2: f32,
+        frame: &crate::math::Frame,
+    ) -> TriangleSurface {
+        tri_surface::flat_surface(&self.corners(i), b1, b2, frame)
+    }
+
     /// Checks indices and values; returns the message of the first problem.
     pub fn validate(&self) -> Result<(), String> {
         if self.indices.is_empty() {

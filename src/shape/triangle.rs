@@ -10,47 +10,67 @@ use wide::f32x4;
 // reads `RayShear`'s fields.
 #[path = "triangle_packet.rs"]
 mod packet;
-pub use packet::{Hits4, Hits8, RayShear4, Triangle4};
+pub use packet::{Hits4, Hits8, Triangle4};
 
 /// Per-ray constants of the watertight test: the axis permutation that makes the ray's largest
-/// direction component z, and the shear that aligns the ray with z.
+/// direction component z, the ray origin in that order, and the shear that aligns the ray with
+/// z. The packet tests (`Triangle4`) read it as it is, splatting each constant where they use
+/// it: a separate 4-lane copy cost about 40 instructions per ray query to build (Cornell box
+/// profile, docs/performance.md "Fifth stop"), more than the broadcasts it saves.
 #[derive(Clone, Copy, Debug)]
 pub struct RayShear {
-    o: Vec3,
-    /// Axis indices (kx, ky, kz); always < 3, and masked with `& 3` on use so that indexing a
-    /// 4-element array needs no bounds check.
-    k: [u32; 3],
+    /// The ray origin, permuted: `o[i]` is its `k[i]` component.
+    o: [f32; 3],
+    /// Axes (kx, ky, kz), as indices the compiler knows are below 3 (no bounds checks).
+    k: [Axis; 3],
     sx: f32,
     sy: f32,
     sz: f32,
 }
 
+/// A coordinate axis, as an index the compiler knows is below 3: `v[3 * vertex + axis]` then
+/// needs no bounds check (with a `usize` axis those were 18 of the ~150 instructions of each
+/// packet test in a Cornell-box profile).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+enum Axis {
+    X,
+    Y,
+    Z,
+}
+
 impl RayShear {
     #[inline]
     pub fn new(ray: &Ray) -> Self {
+        use Axis::{X, Y, Z};
         let a = ray.d.abs();
         let kz = if a.x > a.y {
             if a.x > a.z {
-                0
+                X
             } else {
-                2
+                Z
             }
         } else if a.y > a.z {
-            1
+            Y
         } else {
-            2
+            Z
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if ray.d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        let sz = 1.0 / ray.d[kz];
+        let (d, o) = (ray.d.to_array(), ray.o.to_array());
+        // (kz + 1) % 3 and (kz + 2) % 3, swapped for a negative d[kz] (winding preserved).
+        let (kx, ky) = match (kz, d[kz as usize] < 0.0) {
+            (X, false) => (Y, Z),
+            (Y, false) => (Z, X),
+            (Z, false) => (X, Y),
+            (X, true) => (Z, Y),
+            (Y, true) => (X, Z),
+            (Z, true) => (Y, X),
+        };
+        let sz = 1.0 / d[kz as usize];
         Self {
-            o: ray.o,
-            k: [kx as u32, ky as u32, kz as u32],
-            sx: ray.d[kx] * sz,
-            sy: ray.d[ky] * sz,
+            o: [o[kx as usize], o[ky as usize], o[kz as usize]],
+            k: [kx, ky, kz],
+            sx: d[kx as usize] * sz,
+            sy: d[ky as usize] * sz,
             sz,
         }
     }
@@ -59,12 +79,12 @@ impl RayShear {
     /// and the unsheared z (sheared later, only for triangles the ray passes through).
     #[inline(always)]
     fn project(&self, v: Vec3) -> (f32, f32, f32) {
-        let d = v - self.o;
-        let p = [d.x, d.y, d.z, 0.0];
+        let p = v.to_array();
+        let [kx, ky, kz] = self.k;
         let (x, y, z) = (
-            p[(self.k[0] & 3) as usize],
-            p[(self.k[1] & 3) as usize],
-            p[(self.k[2] & 3) as usize],
+            p[kx as usize] - self.o[0],
+            p[ky as usize] - self.o[1],
+            p[kz as usize] - self.o[2],
         );
         (x - self.sx * z, y - self.sy * z, z)
     }

@@ -52,13 +52,15 @@ impl Triangle4 {
     /// function exactly zero are left to the caller (`Hits4::redo`), which runs `intersect` on
     /// them for its f64 refinement; they are rare (rays through edges and vertices).
     #[inline(always)]
-    pub fn intersect(&self, s: &RayShear4, t_max: f32) -> Hits4 {
+    pub fn intersect(&self, s: &RayShear, t_max: f32) -> Hits4 {
         let [kx, ky, kz] = s.k;
+        let [ox, oy, oz] = s.o.map(f32x4::splat);
+        let (sx, sy, sz) = (f32x4::splat(s.sx), f32x4::splat(s.sy), f32x4::splat(s.sz));
         let project = |vertex: usize| {
-            let x = self.v[3 * vertex + kx as usize] - s.o[0];
-            let y = self.v[3 * vertex + ky as usize] - s.o[1];
-            let z = self.v[3 * vertex + kz as usize] - s.o[2];
-            (x - s.sx * z, y - s.sy * z, z)
+            let x = self.v[3 * vertex + kx as usize] - ox;
+            let y = self.v[3 * vertex + ky as usize] - oy;
+            let z = self.v[3 * vertex + kz as usize] - oz;
+            (x - sx * z, y - sy * z, z)
         };
         let (ax, ay, az) = project(0);
         let (bx, by, bz) = project(1);
@@ -71,7 +73,7 @@ impl Triangle4 {
         let same_sign = (u.cmp_ge(zero) & w_.cmp_ge(zero) & w.cmp_ge(zero))
             | (u.cmp_le(zero) & w_.cmp_le(zero) & w.cmp_le(zero));
         let det = u + w_ + w;
-        let (az, bz, cz) = (s.sz * az, s.sz * bz, s.sz * cz);
+        let (az, bz, cz) = (sz * az, sz * bz, sz * cz);
         let t_scaled = u * az + w_ * bz + w * cz;
         // t_scaled · sign(det), as the scalar test; exact (a sign flip).
         let ts = t_scaled ^ (det & f32x4::splat(-0.0));
@@ -113,51 +115,6 @@ pub struct Hits4 {
     pub b2: [f32; 4],
 }
 
-/// `RayShear` with its per-ray constants in SIMD lanes, for `Triangle4`.
-#[derive(Clone, Copy, Debug)]
-pub struct RayShear4 {
-    /// The ray origin, permuted (kx, ky, kz).
-    o: [f32x4; 3],
-    k: [Axis; 3],
-    sx: f32x4,
-    sy: f32x4,
-    sz: f32x4,
-}
-
-impl RayShear4 {
-    #[inline]
-    pub fn new(s: &RayShear) -> Self {
-        let k = s.k.map(Axis::of);
-        let o = [s.o.x, s.o.y, s.o.z];
-        Self {
-            o: k.map(|k| f32x4::splat(o[k as usize])),
-            k,
-            sx: f32x4::splat(s.sx),
-            sy: f32x4::splat(s.sy),
-            sz: f32x4::splat(s.sz),
-        }
-    }
-}
-
-/// A coordinate axis, as an index the compiler knows is below 3: `v[3 * vertex + axis]` then
-/// needs no bounds check (with a `usize` axis those were 18 of the ~150 instructions of each
-/// packet test in a Cornell-box profile).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
-enum Axis {
-    X,
-    Y,
-    Z,
-}
-
-impl Axis {
-    #[inline]
-    fn of(k: u32) -> Axis {
-        // A table, not a match: no branches (`k` < 3 always; 3 cannot occur).
-        [Axis::X, Axis::Y, Axis::Z, Axis::Z][(k & 3) as usize]
-    }
-}
-
 /// What `Triangle4::intersect_pair_avx2` found for two packets side by side: lanes 0–3 are the
 /// first packet's, 4–7 the second's, each as `Triangle4::intersect` finds it at the same
 /// `t_max`. `ts` and `det_abs` let a caller that shrank `t_max` after the first packet apply
@@ -193,7 +150,7 @@ impl Triangle4 {
     pub unsafe fn intersect_pair_avx2(
         a: &Triangle4,
         b: &Triangle4,
-        s: &RayShear4,
+        s: &RayShear,
         t_max: f32,
     ) -> Hits8 {
         use std::arch::x86_64::*;
@@ -203,7 +160,7 @@ impl Triangle4 {
             let hi = _mm_loadu_ps(b.v[i].as_array_ref().as_ptr());
             _mm256_set_m128(hi, lo)
         };
-        let sp = |x: f32x4| _mm256_set1_ps(x.as_array_ref()[0]);
+        let sp = |x: f32| _mm256_set1_ps(x);
         let mul = |x: __m256, y: __m256| _mm256_mul_ps(x, y);
         let sub = |x: __m256, y: __m256| _mm256_sub_ps(x, y);
         let add = |x: __m256, y: __m256| _mm256_add_ps(x, y);

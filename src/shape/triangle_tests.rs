@@ -108,7 +108,7 @@ fn packet_test_matches_scalar_test() {
         } else {
             f32::INFINITY
         };
-        let h = packet.intersect(&RayShear4::new(&shear), t_max);
+        let h = packet.intersect(&shear, t_max);
         assert_eq!((h.mask | h.redo) >> n, 0, "an unused lane was hit");
         assert_eq!(h.mask & h.redo, 0);
         for (lane, (v, _)) in tris[..n].iter().enumerate() {

@@ -39,7 +39,7 @@ impl Tree {
         // would be NaN, which the node test ignores (a ray in a slab's plane), so every lane
         // would pass, unused lanes included (whose child, EMPTY, would then be read as a leaf
         // past the end of the caller's items).
-        if self.root == EMPTY || !(ray.o.is_finite() && ray.d.is_finite()) {
+        if self.root == EMPTY || !finite(ray) {
             return false;
         }
         #[cfg(target_arch = "x86_64")]
@@ -170,6 +170,15 @@ impl Tree {
             }
         }
     }
+}
+
+/// Whether the ray's origin and direction are finite: x · 0 is ±0 for a finite x and NaN for
+/// ±∞ or NaN, so the sum is zero exactly when all six are. Fewer instructions than six
+/// `is_finite` tests (about 20 against 30, with one branch; each ray query runs it).
+#[inline(always)]
+fn finite(ray: &Ray) -> bool {
+    let z = ray.o * 0.0 + ray.d * 0.0;
+    z.x + z.y + z.z == 0.0
 }
 
 /// A node waiting on the traversal stack, with the distance at which the ray enters its box.
