@@ -136,13 +136,16 @@ fn render_lanes<const N: usize, const SE: bool>(
             // module's Ctrl-C unwinds from it) skips the tiles not yet begun.
             progress(0);
             let r = match packets {
-                Some(w) => packet::render_tile::<N, SE>(w, scene, settings, sensor, x0, y0),
+                Some(w) => {
+                    packet::render_tile::<N, SE>(w, scene, settings, sensor, progress, x0, y0)
+                }
                 None => render_tile::<N, SE>(
                     scene,
                     settings,
                     sensor,
                     dispersive,
                     caustics.as_ref(),
+                    progress,
                     x0,
                     y0,
                 ),
@@ -235,7 +238,14 @@ struct Pass<'a, const N: usize> {
     caustics: Option<&'a Caustics<'a>>,
     clamp: f32,
     radiance: path::RadianceFn<N>,
+    /// Called with 0 every `CHECK_EVERY` samples of a pixel: a caller stopping the render
+    /// (the Python module's Ctrl-C unwinds from it) stops it inside a long tile too.
+    progress: &'a (dyn Fn(u64) + Sync),
 }
+
+/// Samples between two `progress(0)` calls inside a pixel (a power of two; at ~1 µs a
+/// sample, a few milliseconds).
+pub(crate) const CHECK_EVERY: u32 = 4096;
 
 impl<const N: usize> Pass<'_, N> {
     /// Samples `0..n` of pixel (x, y) from `sampler`, summed into `sums` (with `SQ`, their
@@ -252,22 +262,28 @@ impl<const N: usize> Pass<'_, N> {
     ) {
         let settings = self.settings;
         counts.samples += n as u64;
-        for s in 0..n {
-            sampler.start(s);
-            let offset = settings.filter.sample(sampler.next_2d());
-            let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-            let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
-            let ray = self.scene.camera_ray(film, y, sampler);
-            let l = (self.radiance)(
-                self.scene,
-                ray,
-                &wl,
-                sampler,
-                &settings.path,
-                settings.dispersion,
-                self.caustics,
-            );
-            add_sample::<N, SQ>(self.sensor, self.clamp, l, &wl, sums, counts);
+        // In runs of CHECK_EVERY samples, with the check between runs: no cost per sample.
+        for run in (0..n).step_by(CHECK_EVERY as usize) {
+            if run > 0 {
+                (self.progress)(0);
+            }
+            for s in run..n.min(run.saturating_add(CHECK_EVERY)) {
+                sampler.start(s);
+                let offset = settings.filter.sample(sampler.next_2d());
+                let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
+                let ray = self.scene.camera_ray(film, y, sampler);
+                let l = (self.radiance)(
+                    self.scene,
+                    ray,
+                    &wl,
+                    sampler,
+                    &settings.path,
+                    settings.dispersion,
+                    self.caustics,
+                );
+                add_sample::<N, SQ>(self.sensor, self.clamp, l, &wl, sums, counts);
+            }
         }
     }
 }
@@ -331,6 +347,7 @@ fn render_tile<const N: usize, const SE: bool>(
     sensor: &Sensor,
     dispersive: bool,
     caustics: Option<&Caustics>,
+    progress: &(dyn Fn(u64) + Sync),
     x0: u32,
     y0: u32,
 ) -> TileOut {
@@ -359,6 +376,7 @@ fn render_tile<const N: usize, const SE: bool>(
             (false, true) => path::radiance::<N, false, true>,
             (false, false) => path::radiance::<N, false, false>,
         },
+        progress,
     };
     // Adaptive: the pilot's accumulators, the slots it judges and the seed of its stream.
     let adaptive = settings.adaptive.map(|a| {

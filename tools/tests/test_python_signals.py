@@ -85,3 +85,46 @@ def test_ctrl_c_stops_run_dataset_and_a_rerun_resumes(tmp_path):
     assert finished(out) == 40
     assert len(prism.Dataset(out)) == 40
     assert kept <= set(range(40))
+
+
+@pytest.mark.parametrize(
+    "spp",
+    [
+        # The packet kernel (the default path).
+        "4194304",
+        # The scalar integrator (adaptive sampling does not run in packets): its pilot, then
+        # the full count, as the target cannot be met.
+        "Adaptive(rel_error: 0.000001, min: 16, max: 4194304)",
+    ],
+)
+def test_ctrl_c_stops_a_render_inside_its_one_tile(tmp_path, spp):
+    """Tolerance: 10 s from the SIGINT to KeyboardInterrupt (the check runs every 4096 samples
+    of a pixel, milliseconds apart; the bound leaves room for a loaded machine). A 16×12 film is
+    one tile, and at 2^22 spp it renders for minutes: before, Ctrl-C waited for the tile's end.
+    Run in a child with a 90 s bound, so a broken build fails instead of hanging."""
+    import subprocess
+    import sys
+
+    from test_python_module import small_cornell
+
+    scene = tmp_path / "s.ron"
+    scene.write_text(small_cornell(16, 12, spp=spp))
+    code = f"""
+import os, signal, threading, time, prism
+s = prism.load_file({str(scene)!r})
+threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
+t0 = time.monotonic()
+try:
+    prism.render(s, threads=2, progress=False)
+    print("finished")
+except KeyboardInterrupt:
+    print("stopped", time.monotonic() - t0 - 0.5)
+"""
+    try:
+        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=90)
+    except subprocess.TimeoutExpired:
+        pytest.fail("Ctrl-C did not stop a one-tile render within 90 s")
+    assert r.returncode == 0, r.stderr
+    word, *rest = r.stdout.split()
+    assert word == "stopped", r.stdout
+    assert float(rest[0]) < 10, f"stopped {rest[0]} s after the SIGINT"

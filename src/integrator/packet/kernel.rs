@@ -33,7 +33,7 @@ struct Lane<'a, const N: usize> {
 /// Renders one tile in packets of W paths.
 #[inline(always)]
 pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) -> TileOut {
-    let (scene, settings, sensor, x0, y0) = a;
+    let (scene, settings, sensor, progress, x0, y0) = a;
     let (x1, y1) = (
         (x0 + TILE).min(settings.width),
         (y0 + TILE).min(settings.height),
@@ -66,7 +66,15 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
         bsdf: Bsdf::default(),
     });
     let mut hits: [Option<SurfaceInteraction>; W] = [None; W];
+    let mut countdown = super::super::CHECK_EVERY;
     loop {
+        // Every so many steps, a caller stopping the render (Ctrl-C in Python) unwinds from
+        // here, inside a long tile too.
+        countdown -= 1;
+        if countdown == 0 {
+            countdown = super::super::CHECK_EVERY;
+            progress(0);
+        }
         // Refill: idle lanes take the stream's next samples, in lane order.
         for lane in lanes.iter_mut().filter(|l| l.item.is_none()) {
             let Some((item, p, s)) = stream.take() else {

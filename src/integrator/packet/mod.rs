@@ -145,10 +145,11 @@ pub(super) fn render_tile<const N: usize, const SE: bool>(
     scene: &Scene,
     settings: &RenderSettings,
     sensor: &Sensor,
+    progress: &(dyn Fn(u64) + Sync),
     x0: u32,
     y0: u32,
 ) -> TileOut {
-    let a = (scene, settings, sensor, x0, y0);
+    let a = (scene, settings, sensor, progress, x0, y0);
     match w {
         #[cfg(target_arch = "x86_64")]
         16 if runs(16) => {
@@ -166,7 +167,14 @@ pub(super) fn render_tile<const N: usize, const SE: bool>(
     }
 }
 
-type TileArgs<'a> = (&'a Scene, &'a RenderSettings, &'a Sensor, u32, u32);
+type TileArgs<'a> = (
+    &'a Scene,
+    &'a RenderSettings,
+    &'a Sensor,
+    &'a (dyn Fn(u64) + Sync),
+    u32,
+    u32,
+);
 
 /// The kernel at W = 8, compiled for AVX2 (its inlined stages use 256-bit registers).
 #[cfg(target_arch = "x86_64")]
