@@ -367,3 +367,45 @@ fn keep_in_view_holds_at_every_frame_of_a_sequence() {
         println!("frame {i}: the ball's closest point is {worst:.2} px inside");
     }
 }
+
+/// Two frames of a long sequence plan in time linear in its length. Fuzz run 13's case 656123
+/// (65,536 frames per sequence, `keep_in_view`) ran for hours on `--frames 0..2`: each of the
+/// sequence's instants re-checked every key of its trajectory. Here 20,000 frames per
+/// sequence at 8×6, 1 spp: about 1 s now; the old code needs tens of minutes. The 120 s bound
+/// only keeps a broken build from hanging the suite.
+#[test]
+fn a_long_sequence_plans_its_frames_in_linear_time() {
+    let dir = workdir("seq_long");
+    let cfg = config(&dir, |t| {
+        let t = t
+            .replace("frames_per_sequence: 3", "frames_per_sequence: 20000")
+            .replace("spp: 2, resolution: (32, 24)", "spp: 1, resolution: (8, 6)");
+        assert!(t.contains("keep_in_view") && t.contains("20000") && t.contains("(8, 6)"));
+        t
+    });
+    let out = dir.join("out");
+    let mut child = prism()
+        .args(["dataset"])
+        .arg(&cfg)
+        .arg("-o")
+        .arg(&out)
+        .args(["--frames", "0..2", "--threads", "1", "-q"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if t0.elapsed() > std::time::Duration::from_secs(120) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("two frames of a 20,000-frame sequence took over 120 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    assert!(status.success(), "{status}");
+    assert_eq!(manifest(&out), vec![0, 1]);
+}

@@ -48,6 +48,9 @@ pub struct Base {
     /// The asset folder's meshes and models, the last shapes of `scene`
     /// (src/dataset/asset_folder.rs).
     pub assets: Vec<super::asset_folder::Asset>,
+    /// `view::throughout`'s answers by sequence and drawn pose: every frame of a sequence asks
+    /// the same question, each in time linear in the sequence's length.
+    pub views: std::sync::Mutex<std::collections::HashMap<u64, bool>>,
 }
 
 /// Where a light variation points.
@@ -171,6 +174,7 @@ impl Base {
             sheet_layers: Vec::new(),
             textures: Vec::new(),
             assets,
+            views: Default::default(),
         };
         base.warnings = base
             .built

@@ -44,6 +44,42 @@ pub fn throughout(
     if c.sequences == 0 || watched.is_empty() {
         return Ok(true);
     }
+    // The answer depends on the sequence and the drawn poses only (not on `i`'s place).
+    let key = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let seq = super::sequence::draw_index(base, i);
+        format!("{seq} {scene:?} {shown:?} {watched:?} {bounds:?}").hash(&mut h);
+        h.finish()
+    };
+    let known = |b: &Base| {
+        b.views
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+            .copied()
+    };
+    if let Some(ok) = known(base) {
+        return Ok(ok);
+    }
+    let ok = sweep(base, i, scene, shown, watched, bounds)?;
+    base.views
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key, ok);
+    Ok(ok)
+}
+
+/// `throughout` without the memo: every frame's instant of the sequence.
+fn sweep(
+    base: &Base,
+    i: u32,
+    scene: &SceneConfig,
+    shown: &[bool],
+    watched: &[usize],
+    bounds: &[(Vec3, Vec3)],
+) -> Result<bool, InputError> {
+    let c = &base.config;
     let mut moved = scene.clone();
     let mut drawn = serde_json::Map::new();
     super::sequence::animate(base, i, &mut moved, shown, &mut drawn)?;
@@ -66,10 +102,14 @@ pub fn throughout(
         let t = k as f32 / c.fps;
         [Some(t), (shutter > 0.0).then_some(t + shutter)]
     });
+    // The motions checked once, then posed per instant without their keys (linear in the
+    // frames: a copy of the keys per instant was quadratic).
+    let motions = crate::load::motion::Poses::new(&poses, &base.scene_file)?;
+    let mut at = poses.clone();
+    at.camera.animation = None;
+    at.shapes.iter_mut().for_each(|s| s.animation = None);
     for t in times.flatten() {
-        let mut at = poses.clone();
-        crate::load::motion::set_time(&mut at, t);
-        crate::load::motion::prepare(&mut at, &base.scene_file)?;
+        motions.set(&mut at, t);
         let camera = camera(&at.camera, &at, &base.scene_file)?;
         for (j, &k) in watched.iter().enumerate() {
             let m = match poses.shapes[j].animation {
