@@ -146,8 +146,7 @@ fn render_lanes<const N: usize, const SE: bool>(
                     dispersive,
                     caustics.as_ref(),
                     progress,
-                    x0,
-                    y0,
+                    (x0, y0),
                 ),
             };
             progress(r.counts.samples);
@@ -348,8 +347,7 @@ fn render_tile<const N: usize, const SE: bool>(
     dispersive: bool,
     caustics: Option<&Caustics>,
     progress: &(dyn Fn(u64) + Sync),
-    x0: u32,
-    y0: u32,
+    (x0, y0): (u32, u32),
 ) -> TileOut {
     let (x1, y1) = (
         (x0 + TILE).min(settings.width),
