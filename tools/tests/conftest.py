@@ -4,11 +4,19 @@ from __future__ import annotations
 
 import os
 import pathlib
+import signal
 import subprocess
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+# The Ctrl-C tests send SIGINT to this process or to children it starts. A shell without job
+# control starts a background command (`./tools/run_tests.sh &`, nohup) with SIGINT ignored,
+# which every child inherits and Python then leaves ignored: those tests would test the
+# launcher. A handler set here is reset to the default in each exec'd child.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture(scope="session")
