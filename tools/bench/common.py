@@ -115,36 +115,39 @@ def measured(
 
 
 SUMMARY = re.compile(
-    r"rendered (\d+)x(\d+) at (\d+) spp .* in ([0-9.]+) s \(([0-9.]+) Msamples/s, (\d+) threads?\); "
-    r"scene load ([0-9.]+) s"
+    r"rendered (\d+)x(\d+) at (\d+|Adaptive\(.*?\)) spp \(([0-9.]+) Msamples\) in ([0-9.]+) s "
+    r"\(([0-9.]+) Msamples/s, (\d+) threads?\); scene load ([0-9.]+) s"
 )
 
 
 def prism_render(
     binary: pathlib.Path,
     scene: pathlib.Path,
-    spp: int,
+    spp: int | None,
     threads: int,
     out_exr: pathlib.Path,
     extra: list[str] = (),
 ) -> dict:
     """One prism render; timings from its summary line (render and scene load, which includes
-    the acceleration build), peak RSS from wait4."""
-    cmd = [binary, "render", scene, "-o", out_exr, "-q", "--spp", str(spp), "--threads", str(threads), *extra]
+    the acceleration build), peak RSS from wait4. `spp` None: the scene's or `extra`'s own
+    (`--rel-error`: adaptive sampling, whose "spp" is then the mean over the pixels)."""
+    cmd = [binary, "render", scene, "-o", out_exr, "-q", *(["--spp", str(spp)] if spp else []),
+           "--threads", str(threads), *extra]
     code, _, err, rss, wall = measured(cmd)
     m = SUMMARY.search(err)
     if code != 0 or not m:
         return {"error": err.strip()[-400:], "cmd": shlex.join(map(str, cmd))}
-    w, h, s = int(m.group(1)), int(m.group(2)), int(m.group(3))
-    render_s = float(m.group(4))
+    w, h, render_s, rate = int(m.group(1)), int(m.group(2)), float(m.group(5)), float(m.group(6))
+    # Adaptive: the mean spp from the rate and time (3 significant digits each; informative only).
+    s = int(m.group(3)) if m.group(3).isdigit() else round(rate * render_s * 1e6 / (w * h), 1)
     return {
         "cmd": shlex.join(map(str, cmd)),
         "width": w,
         "height": h,
         "spp": s,
-        "threads": int(m.group(6)),
+        "threads": int(m.group(7)),
         "render_s": render_s,
-        "load_s": float(m.group(7)),
+        "load_s": float(m.group(8)),
         "msamples_per_s": w * h * s / render_s / 1e6,
         "peak_rss_mib": rss,
         "wall_s": wall,

@@ -57,9 +57,26 @@ def test_summary_line_parses():
     line = ("rendered 256x256 at 64 spp (4.2 Msamples) in 5.12 s (0.82 Msamples/s, 2 threads); "
             "scene load 0.03 s; 0 invalid samples, 4 clamped at 10 -> /tmp/o.exr")
     m = common.SUMMARY.search(line)
-    assert m and m.group(4) == "5.12" and m.group(6) == "2" and m.group(7) == "0.03"
+    assert m and m.group(3) == "64" and m.group(5) == "5.12" and m.group(7) == "2" and m.group(8) == "0.03"
     one = line.replace("2 threads", "1 thread")
-    assert common.SUMMARY.search(one).group(6) == "1"
+    assert common.SUMMARY.search(one).group(7) == "1"
+    # Adaptive sampling prints its settings in place of the count (error_time's adaptive curve).
+    adaptive = ("rendered 320x180 at Adaptive(rel_error: 0.1, min: 16, max: 4096, target: Y, floor: 0.001) spp "
+                "(5.8 Msamples) in 4.80 s (1.20 Msamples/s, 2 threads); scene load 0.18 s; 0 invalid samples -> /tmp/a.exr")
+    m = common.SUMMARY.search(adaptive)
+    assert m and m.group(3).startswith("Adaptive(") and m.group(5) == "4.80" and m.group(6) == "1.20"
+
+
+def test_prism_render_reports_an_adaptive_renders_mean_spp(monkeypatch, tmp_path):
+    # The render itself is not run: `measured` returns the line prism prints.
+    line = ("rendered 100x50 at Adaptive(rel_error: 0.1, min: 16, max: 4096, target: Y, floor: 0.001) spp "
+            "(0.2 Msamples) in 2.00 s (0.10 Msamples/s, 2 threads); scene load 0.10 s; 0 invalid samples -> x")
+    seen = []
+    monkeypatch.setattr(common, "measured", lambda cmd: (seen.append(cmd), (0, "", line, 10.0, 2.2))[1])
+    r = common.prism_render(pathlib.Path("prism"), pathlib.Path("s.ron"), None, 2, tmp_path / "x.exr", ["--rel-error", "0.1"])
+    assert "--spp" not in map(str, seen[0])
+    # 0.10 Msamples/s over 2 s on 5,000 pixels: 40 samples a pixel on average.
+    assert r["spp"] == 40.0 and r["render_s"] == 2.0 and r["threads"] == 2 and r["load_s"] == 0.1
 
 
 def test_power_law_fit_and_equal_error_time():
@@ -73,12 +90,30 @@ def test_power_law_fit_and_equal_error_time():
     assert abs(error_time.relmse(ref * 1.1, ref) - 0.01 / 1.01) < 1e-12
 
 
+def test_p90_relative_error_counts_the_worst_tenth_and_floors_dark_pixels():
+    ref = np.ones((10, 10, 3))
+    img = ref.copy()
+    img[0, :9] *= 1.5  # 9 pixels of 100 off by 50%: below the 90th percentile
+    assert error_time.p90_rel(img, ref) < 1e-12
+    img[1, :2] *= 1.2  # 11 off: the percentile lands among them (numpy's linear interpolation)
+    assert 0.19 < error_time.p90_rel(img, ref) < 0.51
+    # A black reference pixel measures against the floor, not against 0.
+    dark = np.zeros((1, 1, 3))
+    assert abs(error_time.p90_rel(dark + 1e-4, dark) - 0.1) < 1e-9
+
+
 def test_speedup_reads_off_the_fits():
     rows = [{"scene": "s", "renderer": "prism", "seconds": t, "relmse": 1 / t} for t in (1, 2, 4)]
     rows += [{"scene": "s", "renderer": "other", "seconds": 2 * t, "relmse": 1 / t} for t in (1, 2, 4)]
     sp = {r["renderer"]: r for r in error_time.speedups(rows, "s")}
     assert abs(sp["prism"]["speedup_of_prism"] - 1.0) < 1e-9
     assert abs(sp["other"]["speedup_of_prism"] - 2.0) < 1e-9
+    # The same by another measure; rows without it are left out.
+    for r in rows:
+        r["p90_rel"] = r["relmse"] ** 0.5
+    rows.append({"scene": "s", "renderer": "third", "seconds": 1.0, "relmse": 1.0})
+    sp = {r["renderer"]: r for r in error_time.speedups(rows, "s", "p90_rel")}
+    assert set(sp) == {"prism", "other"} and abs(sp["other"]["speedup_of_prism"] - 2.0) < 1e-9
 
 
 def test_rounds_rotate_the_order_and_pair_ratios_by_round(monkeypatch):
