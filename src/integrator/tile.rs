@@ -1,0 +1,230 @@
+//! One tile of the scalar loop: every pixel's samples in order, summed into per-slot
+//! accumulators (with squares for the standard error and adaptive sampling's pilot), and the
+//! accumulators the packet kernel's in-order flush shares with it.
+
+use super::adaptive;
+use super::caustics::Caustics;
+use super::path;
+use super::{RenderSettings, TILE};
+use crate::sampler::PixelSampler;
+use crate::scene::Scene;
+use crate::sensor::Sensor;
+use crate::spectrum::{Spectrum, Wavelengths};
+use glam::Vec2;
+
+/// Per-tile sample counts (pilot samples included).
+#[derive(Clone, Copy, Default)]
+pub(crate) struct TileCounts {
+    pub(crate) samples: u64,
+    pub(crate) invalid: u64,
+    pub(crate) clamped: u64,
+}
+
+/// A tile's pixels, in its own row-major order: slot means, slot standard errors (with `SE`),
+/// and each pixel's estimate's sample count.
+pub(crate) struct TileOut {
+    pub(crate) means: Vec<f32>,
+    pub(crate) se: Vec<f32>,
+    pub(crate) spp: Vec<u32>,
+    pub(crate) counts: TileCounts,
+}
+
+/// One pixel's accumulators: per-slot sums, and with squares, each sample's own slot values
+/// (`one`) and the sums of their squares.
+pub(crate) struct Sums {
+    pub(crate) acc: Vec<f64>,
+    one: Vec<f64>,
+    pub(crate) acc2: Vec<f64>,
+}
+
+impl Sums {
+    pub(crate) fn new(slots: usize, squares: bool) -> Self {
+        let n = if squares { slots } else { 0 };
+        Sums {
+            acc: vec![0.0; slots],
+            one: vec![0.0; n],
+            acc2: vec![0.0; n],
+        }
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.acc.iter_mut().for_each(|a| *a = 0.0);
+        self.acc2.iter_mut().for_each(|a| *a = 0.0);
+    }
+}
+
+/// What every sample of a tile shares.
+struct Pass<'a, const N: usize> {
+    scene: &'a Scene,
+    settings: &'a RenderSettings,
+    sensor: &'a Sensor,
+    caustics: Option<&'a Caustics<'a>>,
+    clamp: f32,
+    radiance: path::RadianceFn<N>,
+    /// Called with 0 every `CHECK_EVERY` samples of a pixel: a caller stopping the render
+    /// (the Python module's Ctrl-C unwinds from it) stops it inside a long tile too.
+    progress: &'a (dyn Fn(u64) + Sync),
+}
+
+/// Samples between two `progress(0)` calls inside a pixel (a power of two; at ~1 µs a
+/// sample, a few milliseconds).
+pub(crate) const CHECK_EVERY: u32 = 4096;
+
+impl<const N: usize> Pass<'_, N> {
+    /// Samples `0..n` of pixel (x, y) from `sampler`, summed into `sums` (with `SQ`, their
+    /// squares too: a second add into a scratch, so `acc` sums exactly as without them).
+    #[inline(always)]
+    fn take<const SQ: bool>(
+        &self,
+        x: u32,
+        y: u32,
+        sampler: &mut PixelSampler,
+        n: u32,
+        sums: &mut Sums,
+        counts: &mut TileCounts,
+    ) {
+        let settings = self.settings;
+        counts.samples += n as u64;
+        // In runs of CHECK_EVERY samples, with the check between runs: no cost per sample.
+        for run in (0..n).step_by(CHECK_EVERY as usize) {
+            if run > 0 {
+                (self.progress)(0);
+            }
+            for s in run..n.min(run.saturating_add(CHECK_EVERY)) {
+                sampler.start(s);
+                let offset = settings.filter.sample(sampler.next_2d());
+                let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                let wl = settings.wavelengths.sample::<N>(sampler.next_1d());
+                let ray = self.scene.camera_ray(film, y, sampler);
+                let l = (self.radiance)(
+                    self.scene,
+                    ray,
+                    &wl,
+                    sampler,
+                    &settings.path,
+                    settings.dispersion,
+                    self.caustics,
+                );
+                add_sample::<N, SQ>(self.sensor, self.clamp, l, &wl, sums, counts);
+            }
+        }
+    }
+}
+
+/// Adds one camera sample's radiance `l` at `wl` to a pixel's `sums` (with `SQ`, its squares
+/// too: a second add into a scratch, so `acc` sums exactly as without them). The scalar loop
+/// and the packet kernel's in-order flush both come here, so they sum alike.
+#[inline(always)]
+pub(crate) fn add_sample<const N: usize, const SQ: bool>(
+    sensor: &Sensor,
+    clamp: f32,
+    mut l: Spectrum<N>,
+    wl: &Wavelengths<N>,
+    sums: &mut Sums,
+    counts: &mut TileCounts,
+) {
+    if !l.is_finite() {
+        counts.invalid += 1;
+        return;
+    }
+    if l.max_value() > clamp {
+        counts.clamped += 1;
+        l = Spectrum::from_fn(|j| l[j].min(clamp));
+    }
+    sensor.add(&mut sums.acc, &l, &wl.estimator_weights(), wl);
+    if SQ {
+        sums.one.iter_mut().for_each(|a| *a = 0.0);
+        sensor.add(&mut sums.one, &l, &wl.estimator_weights(), wl);
+        let sq = sums.acc2.iter_mut().zip(&sums.one);
+        sq.for_each(|(q, v)| *q += v * v);
+    }
+}
+
+/// Appends a finished pixel of `n` samples (its `sums`) to `out`.
+#[inline(always)]
+pub(crate) fn finish_pixel<const SE: bool>(sums: &Sums, n: u32, out: &mut TileOut) {
+    let inv_n = 1.0 / n as f64;
+    out.means
+        .extend(sums.acc.iter().map(|&a| (a * inv_n) as f32));
+    out.spp.push(n);
+    if SE {
+        // Unbiased sample variance over n samples (invalid ones count as 0), / n.
+        let n = n as f64;
+        out.se
+            .extend(sums.acc.iter().zip(&sums.acc2).map(|(&s, &q)| {
+                let var = if n > 1.0 {
+                    ((q - s * s / n) / (n - 1.0)).max(0.0)
+                } else {
+                    0.0
+                };
+                (var / n).sqrt() as f32
+            }));
+    }
+}
+
+/// `dispersive`: some material of the scene samples directions by wavelength (see
+/// `path::radiance`).
+pub(crate) fn render_tile<const N: usize, const SE: bool>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    sensor: &Sensor,
+    dispersive: bool,
+    caustics: Option<&Caustics>,
+    progress: &(dyn Fn(u64) + Sync),
+    (x0, y0): (u32, u32),
+) -> TileOut {
+    let (x1, y1) = (
+        (x0 + TILE).min(settings.width),
+        (y0 + TILE).min(settings.height),
+    );
+    let slots = sensor.slots();
+    let pixels = ((x1 - x0) * (y1 - y0)) as usize;
+    let mut out = TileOut {
+        means: Vec::with_capacity(pixels * slots),
+        se: Vec::with_capacity(if SE { pixels * slots } else { 0 }),
+        spp: Vec::with_capacity(pixels),
+        counts: TileCounts::default(),
+    };
+    let mut sums = Sums::new(slots, SE);
+    let pass = Pass::<N> {
+        scene,
+        settings,
+        sensor,
+        caustics,
+        clamp: settings.path.clamp.unwrap_or(f32::INFINITY),
+        radiance: match (dispersive, caustics.is_some()) {
+            (true, true) => path::radiance::<N, true, true>,
+            (true, false) => path::radiance::<N, true, false>,
+            (false, true) => path::radiance::<N, false, true>,
+            (false, false) => path::radiance::<N, false, false>,
+        },
+        progress,
+    };
+    // Adaptive: the pilot's accumulators, the slots it judges and the seed of its stream.
+    let adaptive = settings.adaptive.map(|a| {
+        let slots_judged = adaptive::target_slots(&a, sensor);
+        (a, Sums::new(slots, true), slots_judged)
+    });
+    let pilot_seed = adaptive::pilot_seed(settings.seed);
+    let mut adaptive = adaptive;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let pixel = y as u64 * settings.width as u64 + x as u64;
+            let n = match &mut adaptive {
+                None => settings.spp,
+                Some((a, pilot, judged)) => {
+                    pilot.clear();
+                    let mut ps = PixelSampler::new(settings.sampler, pilot_seed, pixel);
+                    pass.take::<true>(x, y, &mut ps, a.min, pilot, &mut out.counts);
+                    let (s, q) = (&pilot.acc, &pilot.acc2);
+                    adaptive::count(a, settings.sampler, a.min, s, q, judged)
+                }
+            };
+            sums.clear();
+            let mut sampler = PixelSampler::new(settings.sampler, settings.seed, pixel);
+            pass.take::<SE>(x, y, &mut sampler, n, &mut sums, &mut out.counts);
+            finish_pixel::<SE>(&sums, n, &mut out);
+        }
+    }
+    out
+}
