@@ -34,6 +34,12 @@ impl Film {
     /// Pixels with a non-finite value in any channel: an accumulation that overflowed f32
     /// although every sample was finite. One pass over the image, after rendering.
     pub fn nonfinite_pixels(&self) -> u64 {
+        // Channel by channel first, a pass the compiler vectorises: the pixel-major count
+        // strides across every channel (1% of a 16-spp Cornell render), for films that are
+        // almost always clean.
+        if self.channels.iter().all(|c| all_finite(&c.data)) {
+            return 0;
+        }
         let n = (self.width * self.height) as usize;
         (0..n)
             .filter(|&i| self.channels.iter().any(|c| !c.data[i].is_finite()))
@@ -48,6 +54,11 @@ impl Film {
             v == f32::INFINITY && (c.name.starts_with("distance.") || c.name.starts_with("depth."))
         };
         let bad = |c: &Channel, v: f32| !v.is_finite() && !allowed(c, v);
+        // As in `nonfinite_pixels`: a clean film is told by a channel-major pass (a distance
+        // or depth channel with its +inf "no surface" takes the pixel-major one).
+        if self.channels.iter().all(|c| all_finite(&c.data)) {
+            return None;
+        }
         let n = (self.width * self.height) as usize;
         let count = (0..n)
             .filter(|&i| self.channels.iter().any(|c| bad(c, c.data[i])))
@@ -64,6 +75,13 @@ impl Film {
             .find(|c| c.name == name)
             .map(|c| c.data.as_slice())
     }
+}
+
+/// Whether every value is finite, branch-free over blocks so that it vectorises.
+fn all_finite(data: &[f32]) -> bool {
+    let mut blocks = data.chunks_exact(64);
+    let clean = |b: &[f32]| b.iter().fold(true, |ok, v| ok & v.is_finite());
+    blocks.all(clean) && clean(blocks.remainder())
 }
 
 #[cfg(test)]
@@ -103,6 +121,45 @@ mod tests {
         let e = crate::output::check_finite(&film, std::path::Path::new("s.ron")).unwrap_err();
         assert_eq!(e.exit_code(), 2);
         assert!(e.to_string().contains("s.ron") && e.to_string().contains("depth.Z"));
+    }
+
+    /// The channel-major pass finds a bad value at every place: the blocks of 64, their
+    /// edges and the remainder (130 values: two blocks and 2 over).
+    #[test]
+    fn a_clean_film_is_told_from_one_bad_value_anywhere() {
+        for at in [
+            None,
+            Some(0),
+            Some(63),
+            Some(64),
+            Some(127),
+            Some(128),
+            Some(129),
+        ] {
+            for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+                let mut data = vec![1.0f32; 130];
+                if let Some(i) = at {
+                    data[i] = bad;
+                }
+                assert_eq!(all_finite(&data), at.is_none(), "{bad} at {at:?}");
+                let film = Film {
+                    width: 13,
+                    height: 10,
+                    channels: vec![Channel {
+                        name: "G".into(),
+                        data,
+                    }],
+                    band_centers: vec![],
+                    uint_channels: vec![],
+                    header: vec![],
+                };
+                assert_eq!(film.nonfinite_pixels(), at.is_some() as u64);
+                let found = film
+                    .first_nonfinite()
+                    .map(|(_, x, y, _, n)| (x + 13 * y, n));
+                assert_eq!(found, at.map(|i| (i as u32, 1)));
+            }
+        }
     }
 
     #[test]
