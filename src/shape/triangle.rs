@@ -44,27 +44,24 @@ impl RayShear {
     pub fn new(ray: &Ray) -> Self {
         use Axis::{X, Y, Z};
         let a = ray.d.abs();
-        let kz = if a.x > a.y {
-            if a.x > a.z {
-                X
-            } else {
-                Z
-            }
-        } else if a.y > a.z {
-            Y
-        } else {
-            Z
-        };
+        // The largest component, as the nested comparisons (x over y, then the winner over
+        // z; ties go to the later axis) but from flags, so that a diffuse bounce's random
+        // direction costs no mispredicted branch.
+        let x_over_y = a.x > a.y;
+        let x_wins = x_over_y & (a.x > a.z);
+        let y_wins = !x_over_y & (a.y > a.z);
+        let kz_i = 2 - 2 * x_wins as usize - y_wins as usize;
         let (d, o) = (ray.d.to_array(), ray.o.to_array());
         // (kz + 1) % 3 and (kz + 2) % 3, swapped for a negative d[kz] (winding preserved).
-        let (kx, ky) = match (kz, d[kz as usize] < 0.0) {
-            (X, false) => (Y, Z),
-            (Y, false) => (Z, X),
-            (Z, false) => (X, Y),
-            (X, true) => (Z, Y),
-            (Y, true) => (X, Z),
-            (Z, true) => (Y, X),
-        };
+        const PERM: [[Axis; 3]; 6] = [
+            [Y, Z, X],
+            [Z, X, Y],
+            [X, Y, Z],
+            [Z, Y, X],
+            [X, Z, Y],
+            [Y, X, Z],
+        ];
+        let [kx, ky, kz] = PERM[kz_i + 3 * (d[kz_i] < 0.0) as usize];
         let sz = 1.0 / d[kz as usize];
         Self {
             o: [o[kx as usize], o[ky as usize], o[kz as usize]],

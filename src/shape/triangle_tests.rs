@@ -160,3 +160,49 @@ fn shared_edge_is_watertight() {
         assert!(hit, "ray {i} leaked through the shared edge");
     }
 }
+
+/// The axis choice is the nested comparisons' (x against y, the winner against z, ties to the
+/// later axis, NaN to z), with the swap for a negative z: checked on ties, signs, zeros and NaN.
+#[test]
+fn ray_shear_picks_the_axes_of_the_nested_comparisons() {
+    use Axis::{X, Y, Z};
+    let reference = |d: Vec3| {
+        let a = d.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z {
+                X
+            } else {
+                Z
+            }
+        } else if a.y > a.z {
+            Y
+        } else {
+            Z
+        };
+        let neg = d.to_array()[kz as usize] < 0.0;
+        let (kx, ky) = match (kz, neg) {
+            (X, false) => (Y, Z),
+            (Y, false) => (Z, X),
+            (Z, false) => (X, Y),
+            (X, true) => (Z, Y),
+            (Y, true) => (X, Z),
+            (Z, true) => (Y, X),
+        };
+        [kx, ky, kz]
+    };
+    let values = [0.0, -0.0, 1.0, -1.0, 2.0, -2.0, 0.5, f32::NAN];
+    let mut seen = Vec::new();
+    for &x in &values {
+        for &y in &values {
+            for &z in &values {
+                let d = Vec3::new(x, y, z);
+                let k = RayShear::new(&Ray::new(Vec3::ZERO, d)).k;
+                assert_eq!(k, reference(d), "direction {d}");
+                if !seen.contains(&k) {
+                    seen.push(k);
+                }
+            }
+        }
+    }
+    assert_eq!(seen.len(), 6, "every permutation is reached");
+}
