@@ -43,6 +43,14 @@ mod spectrum {
     pub mod table;
 }
 
+// The fit's maths is the crate's own (`crate::math::portable`), so a build on any host gives the
+// same tables.
+#[allow(dead_code)]
+#[path = "src/math"]
+mod math {
+    pub mod portable;
+}
+
 /// Fits the sigmoid coefficient tables (Jakob & Hanika 2019) of every input RGB space (linear
 /// sRGB, Rec. 2020, Display P3, ACEScg; `src/spectrum/gamut.rs`) from the CIE data in
 /// `spectra/` and writes them to `<space>_sigmoid.bin`, which `src/spectrum/rgb2spec.rs` embeds.

@@ -18,6 +18,7 @@
 
 use glam::{Vec2, Vec3};
 use prism::accel::{Accel, AccelKind, Prim};
+use prism::math::portable;
 use prism::math::rng::Pcg32;
 use prism::math::{sampling, Frame};
 use prism::ray::{spawn, Ray};
@@ -39,12 +40,16 @@ fn bumpy_sphere(triangles: usize) -> Mesh {
             let n = match i {
                 0 => Vec3::Y,
                 _ if i == nv => -Vec3::Y,
-                _ => Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()),
+                _ => Vec3::new(
+                    portable::sin(th) * portable::cos(ph),
+                    portable::cos(th),
+                    portable::sin(th) * portable::sin(ph),
+                ),
             };
-            let bump = th.sin()
-                * (0.06 * (7.0 * th).sin() * (5.0 * ph).cos()
-                    + 0.03 * (23.0 * th + 1.0).sin() * (19.0 * ph).sin()
-                    + 0.012 * (71.0 * th).cos() * (67.0 * ph + 0.5).sin());
+            let bump = portable::sin(th)
+                * (0.06 * portable::sin(7.0 * th) * portable::cos(5.0 * ph)
+                    + 0.03 * portable::sin(23.0 * th + 1.0) * portable::sin(19.0 * ph)
+                    + 0.012 * portable::cos(71.0 * th) * portable::sin(67.0 * ph + 0.5));
             m.positions.push(n * (1.0 + bump));
         }
     }
@@ -74,7 +79,7 @@ fn make_rays(mesh: &Mesh, reference: &Accel, n: usize) -> RaySets {
     let side = (n as f32).sqrt() as usize;
     let eye = Vec3::new(0.0, 0.4, 3.0);
     let cam = Frame::from_normal((Vec3::ZERO - eye).normalize());
-    let tan = (20.0f32).to_radians().tan();
+    let tan = portable::tan((20.0f32).to_radians());
     let mut rng = Pcg32::new(7, 3);
     let mut primary = Vec::with_capacity(side * side);
     for y in 0..side {

@@ -45,6 +45,7 @@ use crate::emitter::{AreaRadiance, Emitter};
 use crate::error::Error;
 use crate::filter::Filter;
 use crate::load::Job;
+use crate::math::portable;
 use crate::shape::{Mesh, Shape};
 use crate::spectrum::{Curve, Ior, RelativeIor};
 use crate::texture::{FloatTexture, SpectralTexture, TexFilter, UvMap, Wrap};
@@ -106,9 +107,9 @@ pub fn export(job: &Job, scene_file: &Path, dir: &Path) -> Result<(), Error> {
         "camera": {
             "model": cam.model(),
             "principal_point_offset_px": cam.intrinsics().offset.to_array(),
-            "fov_y_deg": 2.0 * cam.tan_half_fov().y.atan().to_degrees(),
+            "fov_y_deg": 2.0 * portable::atan(cam.tan_half_fov().y).to_degrees(),
             "to_world": rows(&cam.to_world().m),
-            "fov_x_deg": 2.0 * cam.tan_half_fov().x.atan().to_degrees(),
+            "fov_x_deg": 2.0 * portable::atan(cam.tan_half_fov().x).to_degrees(),
             "near_clip": cam.near_clip(),
             "far_clip": cam.far_clip(),
         },

@@ -4,6 +4,7 @@
 //! across pixels, so a pixel's value depends only on its own samples, whatever the threads.
 
 use crate::math::distribution::Distribution1D;
+use crate::math::portable;
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
@@ -49,11 +50,11 @@ impl Filter {
             FilterConfig::Gaussian { stddev } => {
                 let radius = 4.0 * stddev;
                 let alpha = -1.0 / (2.0 * stddev * stddev);
-                let bias = (alpha * radius * radius).exp();
+                let bias = portable::exp(alpha * radius * radius);
                 let weights: Vec<f32> = (0..TABLE_CELLS)
                     .map(|i| {
                         let x = -radius + 2.0 * radius * (i as f32 + 0.5) / TABLE_CELLS as f32;
-                        ((alpha * x * x).exp() - bias).max(0.0)
+                        (portable::exp(alpha * x * x) - bias).max(0.0)
                     })
                     .collect();
                 Filter::Tabulated {

@@ -15,6 +15,7 @@ use common::{alpha, chi2_test};
 use glam::{Vec2, Vec3};
 use prism::bsdf::{Bsdf, BsdfLike, Material};
 use prism::interaction::SurfaceInteraction;
+use prism::math::portable;
 use prism::math::rng::Pcg32;
 use prism::math::Frame;
 use prism::spectrum::{WavelengthSampler, WavelengthSampling, Wavelengths};
@@ -62,8 +63,12 @@ fn bsdf(m: &Material, wi: Vec3) -> Bsdf<'_, 4> {
 /// An incident direction at `theta_deg` from the normal (negative: from below).
 pub fn dir(theta_deg: f32) -> Vec3 {
     let t = theta_deg.abs().to_radians();
-    let z = if theta_deg < 0.0 { -t.cos() } else { t.cos() };
-    Vec3::new(t.sin() * 0.8, t.sin() * 0.6, z).normalize()
+    let z = if theta_deg < 0.0 {
+        -portable::cos(t)
+    } else {
+        portable::cos(t)
+    };
+    Vec3::new(portable::sin(t) * 0.8, portable::sin(t) * 0.6, z).normalize()
 }
 
 fn u2(rng: &mut Pcg32) -> Vec2 {
@@ -75,7 +80,7 @@ fn u2(rng: &mut Pcg32) -> Vec2 {
 fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
     (0..n)
         .map(|i| {
-            let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            let mut x = portable::cos(PI * (i as f64 + 0.75) / (n as f64 + 0.5));
             let mut dp = 1.0;
             for _ in 0..100 {
                 // P_n(x) and P_n'(x) by the three-term recurrence.
@@ -125,7 +130,7 @@ pub fn chi2_binned(name: &str, m: &Material, wi: Vec3, pole: Vec3, sub: usize) {
         }
         let w = frame.to_local(s.wo).as_dvec3().normalize();
         let it = (((1.0 - w.z) / dcos) as usize).min(NT - 1);
-        let ip = ((w.y.atan2(w.x).rem_euclid(2.0 * PI) / dphi) as usize).min(NP - 1);
+        let ip = ((portable::atan2(w.y, w.x).rem_euclid(2.0 * PI) / dphi) as usize).min(NP - 1);
         observed[it * NP + ip] += 1.0;
     }
     let mut expected = vec![0.0; NT * NP + 1];
@@ -145,7 +150,11 @@ pub fn chi2_binned(name: &str, m: &Material, wi: Vec3, pole: Vec3, sub: usize) {
                 let z = 1.0 - (it as f64 + xa) * dcos;
                 let phi = (ip as f64 + xc) * dphi;
                 let s = (1.0 - z * z).max(0.0).sqrt();
-                let local = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32);
+                let local = Vec3::new(
+                    (s * portable::cos(phi)) as f32,
+                    (s * portable::sin(phi)) as f32,
+                    z as f32,
+                );
                 let wo = frame.to_world(local);
                 (above, below) = (above || wo.z > 0.0, below || wo.z < 0.0);
                 sum += wa * wc * b.pdf(wi, wo) as f64;
@@ -858,11 +867,11 @@ fn rough_plastic_matches_mitsuba() {
             "RoughPlastic(distribution: Ggx, alpha: 0.2, diffuse_reflectance: Constant(0.5), specular_reflectance: Constant({spec:.1}))"
         ));
         let t = ti.to_radians();
-        let wi = Vec3::new(t.sin(), 0.0, t.cos());
+        let wi = Vec3::new(portable::sin(t), 0.0, portable::cos(t));
         let b: Bsdf<4> = m.bsdf(&hit(), wi, &wl);
         for (to, want) in [0.0f32, 30.0, 60.0, 80.0].iter().zip(expect) {
-            let s = to.to_radians().sin();
-            let wo = Vec3::new(-0.6 * s, 0.8 * s, to.to_radians().cos());
+            let s = portable::sin(to.to_radians());
+            let wo = Vec3::new(-0.6 * s, 0.8 * s, portable::cos(to.to_radians()));
             let got = b.eval(wi, wo)[0];
             assert!(
                 (got - want).abs() <= 3e-3 * want,

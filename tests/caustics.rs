@@ -8,6 +8,7 @@ mod scratch;
 use common::mean_se;
 use prism::film::Film;
 use prism::integrator;
+use prism::math::portable;
 use std::path::{Path, PathBuf};
 
 fn render_at(text: &str, file: &Path, threads: usize) -> Film {
@@ -217,7 +218,7 @@ fn split(
         );
     }
     let m = a.len() as f64;
-    let threshold = 1.0 - (1.0 - SPLIT_ALPHA).powf(1.0 / m);
+    let threshold = 1.0 - portable::powf(1.0 - SPLIT_ALPHA, 1.0 / m);
     let n = REPS as f64;
     let mut worst: Option<Split> = None;
     for (i, (&(ma, sa), &(mb, sb))) in a.iter().zip(&b).enumerate() {
@@ -412,9 +413,9 @@ fn uv_sphere_obj(rings: usize, segments: usize) -> String {
         for k in 0..=segments {
             let phi = 2.0 * std::f64::consts::PI * k as f64 / segments as f64;
             let (x, y, z) = (
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                theta.sin() * phi.sin(),
+                portable::sin(theta) * portable::cos(phi),
+                portable::cos(theta),
+                portable::sin(theta) * portable::sin(phi),
             );
             writeln!(s, "v {x:.6} {y:.6} {z:.6}\nvn {x:.6} {y:.6} {z:.6}").unwrap();
         }

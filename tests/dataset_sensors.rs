@@ -3,6 +3,7 @@
 
 mod dataset_util;
 use dataset_util::*;
+use prism::math::portable;
 
 /// A sensor from a list per frame: each frame's EXR has its own sensor's channels (camera.R and
 /// corrected.R only for the camera sensor), its JSON names the file and exposure, and a
@@ -65,7 +66,7 @@ fn exposure_scales_the_sensor_channels_by_two_to_the_stops() {
     let cfg = sensor_config(&dir, 1, &format!("(exposure: ({e}, {e}))"));
     let out = dir.join("out");
     ok(&dataset(&cfg, &out, &["--frames", "0..2"]));
-    let k = 2f64.powf(e);
+    let k = portable::powf(2f64, e);
     for i in 0..2 {
         let stem = format!("frames/{i:06}.exr");
         let a = exr_pixels(&base.join(&stem));
@@ -104,7 +105,7 @@ fn exposure_is_recorded_and_scales_the_standard_errors() {
     );
     std::fs::write(dir.join("base.ron"), base).unwrap();
     let e = -0.75f64;
-    let k = 2f64.powf(e);
+    let k = portable::powf(2f64, e);
     let plain = config_on_base(&dir, |t| t);
     let (a, b) = (dir.join("plain"), dir.join("exposed"));
     ok(&dataset(&plain, &a, &["--frames", "0..2"]));

@@ -7,6 +7,7 @@
 
 mod dataset_util;
 use dataset_util::*;
+use prism::math::portable;
 
 use std::path::{Path, PathBuf};
 
@@ -237,7 +238,7 @@ fn lights_move_along_a_sequence() {
                 target == "lamp",
                 "{target}: only the lamp slides ({v})"
             );
-            let (sn, cs) = (w * t).to_radians().sin_cos();
+            let (sn, cs) = portable::sin_cos((w * t).to_radians());
             let rot = [
                 [cs, 0.0, sn, 0.0],
                 [0.0, 1.0, 0.0, 0.0],
@@ -346,7 +347,7 @@ fn keep_in_view_holds_at_every_frame_of_a_sequence() {
             let y = 1.0 - 2.0 * (s as f64 + 0.5) / n as f64;
             let phi = s as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
             let rr = (1.0 - y * y).sqrt();
-            let d = [rr * phi.cos(), y, rr * phi.sin()];
+            let d = [rr * portable::cos(phi), y, rr * portable::sin(phi)];
             let p: [f64; 3] = std::array::from_fn(|a| centre[a] + radius * d[a]);
             let x: [f64; 3] =
                 std::array::from_fn(|r| (0..3).map(|c| rot(r, c) * p[c]).sum::<f64>() + tr(r));

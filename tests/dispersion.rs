@@ -16,6 +16,7 @@ use glam::{Vec2, Vec3};
 use prism::bsdf::BsdfLike;
 use prism::film::{spectral_channel_name, Film};
 use prism::integrator;
+use prism::math::portable;
 use prism::ray::Ray;
 use prism::spectrum::Wavelengths;
 use std::path::Path;
@@ -319,13 +320,14 @@ fn bk7_relative(nm: f64) -> f64 {
 
 /// Polar angle in the xz-plane (the prism's cross-section), f64.
 fn azimuth(v: Vec3) -> f64 {
-    (v.z as f64).atan2(v.x as f64)
+    portable::atan2(v.z as f64, v.x as f64)
 }
 
 /// The classic prism deviation: a ray meeting the first face at θ_i leaves the second turned by
 /// δ = θ_i + asin(n sin(A − asin(sin θ_i / n))) − A towards the base.
 fn deviation(theta_i: f64, n: f64, apex: f64) -> f64 {
-    theta_i + (n * (apex - (theta_i.sin() / n).asin()).sin()).asin() - apex
+    theta_i + portable::asin(n * portable::sin(apex - portable::asin(portable::sin(theta_i) / n)))
+        - apex
 }
 
 /// A ray through the BK7 prism of `scenes/meshes/prism.obj` (apex A = 60°), traced by the
@@ -368,7 +370,7 @@ fn prism_deviation_matches_snell() {
             // Incidence θ_i on the entry face, on the side of its normal away from the apex,
             // so the beam turns towards the base: direction at azimuth θ_i − 30°.
             let phi = (theta_deg - 30.0).to_radians();
-            let d = Vec3::new(phi.cos() as f32, 0.0, phi.sin() as f32);
+            let d = Vec3::new(portable::cos(phi) as f32, 0.0, portable::sin(phi) as f32);
             let mut ray = Ray::new(entry - 3.0 * d, d);
             let mut normals = Vec::new();
             for face in 0..2 {
@@ -395,7 +397,7 @@ fn prism_deviation_matches_snell() {
             );
             // The apex angle between the two faces, from their actual normals.
             let cos = normals[0].as_dvec3().dot(normals[1].as_dvec3());
-            let apex = std::f64::consts::PI - cos.clamp(-1.0, 1.0).acos();
+            let apex = std::f64::consts::PI - portable::acos(cos.clamp(-1.0, 1.0));
             let measured = azimuth(d) - azimuth(ray.d);
             let expected = deviation(theta_deg.to_radians(), bk7_relative(nm as f64), apex);
             let err = (measured - expected).abs();

@@ -20,6 +20,7 @@ mod scratch;
 use glam::{Vec2, Vec3};
 use prism::emitter::{AreaEmitter, AreaRadiance, EmissionTexture, Emitter};
 use prism::interaction::SurfaceInteraction;
+use prism::math::portable;
 use prism::math::rng::Pcg32;
 use prism::math::Frame;
 use prism::shape::{Mesh, Shape};
@@ -45,7 +46,7 @@ fn srgb_decode(v: f64) -> f64 {
     if v <= 0.040_45 {
         v / 12.92
     } else {
-        ((v + 0.055) / 1.055).powf(2.4)
+        portable::powf((v + 0.055) / 1.055, 2.4)
     }
 }
 

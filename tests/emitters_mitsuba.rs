@@ -25,6 +25,7 @@ mod common;
 use common::receiver;
 use glam::{Mat3, Vec2, Vec3};
 use prism::emitter::{Emitter, EnvMap};
+use prism::math::portable;
 use prism::spectrum::Wavelengths;
 use prism::texture::RgbImage;
 use serde_json::Value;
@@ -129,7 +130,7 @@ fn spot_falloff_matches_mitsuba() {
         let expect = floats(&spot[key]["falloff"]);
         let mut worst = 0.0f64;
         for (deg, e) in angles.iter().zip(expect) {
-            let x = 2.0 * (deg.to_radians()).tan() as f32;
+            let x = 2.0 * portable::tan(deg.to_radians()) as f32;
             let si = receiver(Vec3::new(x, 0.0, 0.0));
             let got = em
                 .sample_li(&si, Vec2::splat(0.5), &wl550(), &[])

@@ -8,6 +8,7 @@
 
 mod scratch;
 use prism::film::Film;
+use prism::math::portable;
 use std::path::Path;
 use std::process::Command;
 
@@ -304,7 +305,7 @@ fn gltf_models_flow_by_their_closed_form() {
         ch("position.Y"),
     );
     let id = ids(&f);
-    let (s, c) = 36f32.to_radians().sin_cos();
+    let (s, c) = portable::sin_cos(36f32.to_radians());
     let mut on = 0;
     for i in 0..(W * H) as usize {
         if id[i] == 0 {
@@ -352,7 +353,7 @@ fn nested_gltf_motion_flows_by_its_closed_form() {
         ch("position.Y"),
     );
     let id = ids(&f);
-    let (s, c) = 36f32.to_radians().sin_cos();
+    let (s, c) = portable::sin_cos(36f32.to_radians());
     let centre = (-2.0 + 4.0 * 0.3f32, -0.5f32);
     let mut on = 0;
     for i in 0..(W * H) as usize {

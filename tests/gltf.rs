@@ -12,6 +12,7 @@ mod scratch;
 use glam::{Mat4, Quat, Vec3};
 use prism::bsdf::BsdfLobe;
 use prism::load::gltf;
+use prism::math::portable;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -961,7 +962,7 @@ fn texture_transform_rotation() {
         [0.0, 1.0, 0.0],
         [offset[0], offset[1], 1.0],
     ]);
-    let (c, s) = (rotation.cos(), rotation.sin());
+    let (c, s) = (portable::cos(rotation), portable::sin(rotation));
     // Row-major [[c, s, 0], [−s, c, 0], [0, 0, 1]] written column by column.
     let r = glam::Mat3::from_cols_array_2d(&[[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]);
     let sc = glam::Mat3::from_diagonal(Vec3::new(scale[0], scale[1], 1.0));

@@ -7,6 +7,7 @@
 mod scratch;
 use glam::{DMat4, DQuat, DVec3, Vec3};
 use prism::film::Film;
+use prism::math::portable;
 use prism::shape::Shape;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -61,9 +62,13 @@ fn animated_triangle_turns_as_its_keys_say() {
     for t in [0.0f32, 0.1, 0.25, 0.4, 0.625, 0.9, 1.5] {
         let p = positions_at(&dir, &model, t);
         let a = (t.min(1.0) as f64) * std::f64::consts::TAU;
-        let want = [(0.0, 0.0), (a.cos(), a.sin()), (-a.sin(), a.cos())];
+        let want = [
+            (0.0, 0.0),
+            (portable::cos(a), portable::sin(a)),
+            (-portable::sin(a), portable::cos(a)),
+        ];
         for (k, (x, y)) in want.iter().enumerate() {
-            let d = (p[k].x as f64 - x).hypot(p[k].y as f64 - y);
+            let d = portable::hypot(p[k].x as f64 - x, p[k].y as f64 - y);
             assert!(
                 d < 1e-5 && p[k].z.abs() < 1e-6,
                 "t {t} corner {k}: {}",
@@ -270,13 +275,14 @@ fn a_spinning_gltf_model_blurs_as_its_sweep() {
     )));
     let still = values(&render(&scene(&model, w, h, spp, "", extra)));
     let covered = |x: f64, y: f64| {
-        let (r, phi) = (x.hypot(y), y.atan2(x));
+        let (r, phi) = (portable::hypot(x, y), portable::atan2(y, x));
         let n = 2048;
         (0..n)
             .filter(|&i| {
                 let th = (i as f64 + 0.5) / n as f64 * std::f64::consts::FRAC_PI_2;
                 let psi = (phi - th).rem_euclid(std::f64::consts::TAU);
-                psi <= std::f64::consts::FRAC_PI_2 && r * (psi.cos() + psi.sin()) <= 3.0
+                psi <= std::f64::consts::FRAC_PI_2
+                    && r * (portable::cos(psi) + portable::sin(psi)) <= 3.0
             })
             .count() as f64
             / n as f64
@@ -416,7 +422,7 @@ fn bad_gltf_animations_are_refused() {
 fn nested_motion_blurs_as_the_mean_of_its_instants() {
     let (w, h, spp, k) = (32u32, 32u32, 256u32, 32u32);
     let turn = |deg: f32| {
-        let (s, c) = (deg.to_radians() / 2.0).sin_cos();
+        let (s, c) = portable::sin_cos(deg.to_radians() / 2.0);
         vec![0.0, 0.0, s, c]
     };
     let mut rot = turn(0.0);

@@ -9,6 +9,7 @@ mod scratch;
 use glam::{DVec2, DVec3, Mat4, Vec3};
 use gltf_rig::{blur_against_instants, model, small, Channel, T01, TURN};
 use prism::config::ShutterConfig;
+use prism::math::portable;
 use std::f32::consts::PI;
 use std::path::Path;
 
@@ -195,7 +196,7 @@ fn a_gltf_camera_under_any_motion_blurs_as_its_instants() {
 /// 0.9 rad (the file's yfov) on the 24 × 18 film of `small`.
 fn project(pose: Mat4, x: DVec3) -> DVec2 {
     let c = pose.as_dmat4().inverse().transform_point3(x);
-    let f = 9.0 / (0.45f64).tan();
+    let f = 9.0 / portable::tan(0.45f64);
     DVec2::new(12.0 + f * -c.x / c.z, 9.0 + f * -c.y / c.z)
 }
 

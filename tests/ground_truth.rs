@@ -8,6 +8,7 @@ use glam::DVec3;
 use prism::error::Error;
 use prism::film::Film;
 use prism::integrator;
+use prism::math::portable;
 use std::path::Path;
 
 const SCENE: &str = r#"(
@@ -65,8 +66,11 @@ fn analytic(o: DVec3, d: DVec3) -> Option<(f64, DVec3, u32)> {
     }
     // Rectangle [-3, 3]² rotated by −60° about x (right-handed: (0,0,1) → (0, −sin θ, cos θ)).
     let th = (-60f64).to_radians();
-    let n = DVec3::new(0.0, -th.sin(), th.cos());
-    let (u, v) = (DVec3::X, DVec3::new(0.0, th.cos(), th.sin()));
+    let n = DVec3::new(0.0, -portable::sin(th), portable::cos(th));
+    let (u, v) = (
+        DVec3::X,
+        DVec3::new(0.0, portable::cos(th), portable::sin(th)),
+    );
     let p0 = DVec3::new(0.0, -0.5, -1.0);
     let t = (p0 - o).dot(n) / d.dot(n);
     let q = o + d * t - p0;
@@ -84,7 +88,7 @@ fn sphere_and_plane_match_closed_forms() {
     let fwd = (DVec3::ZERO - eye).normalize();
     let right = fwd.cross(DVec3::Y).normalize();
     let down = fwd.cross(right);
-    let fx = w as f64 / (2.0 * 25f64.to_radians().tan());
+    let fx = w as f64 / (2.0 * portable::tan(25f64.to_radians()));
     let (cx, cy) = (w as f64 / 2.0 - 0.5, h as f64 / 2.0 - 0.5);
     let (mut compared, mut id_mismatch, mut full) = (0, 0, 0);
     for j in 0..h {

@@ -11,6 +11,7 @@ mod scratch;
 
 use glam::{Mat3, Quat, Vec2, Vec3, Vec4};
 use prism::film::Film;
+use prism::math::portable;
 use prism::shape::Shape;
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -135,8 +136,12 @@ fn quad() -> Prim {
 /// north pole), with outward normals and tangents along +u (w = 1).
 fn bumpy_sphere(nu: u32, nv: u32) -> Prim {
     let f = |th: f32, ph: f32| {
-        let r = 1.0 + 0.12 * (3.0 * th).sin() * (4.0 * ph).cos() * th.sin();
-        Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()) * r
+        let r = 1.0 + 0.12 * portable::sin(3.0 * th) * portable::cos(4.0 * ph) * portable::sin(th);
+        Vec3::new(
+            portable::sin(th) * portable::cos(ph),
+            portable::cos(th),
+            portable::sin(th) * portable::sin(ph),
+        ) * r
     };
     let mut p = Prim {
         pos: vec![],
@@ -319,7 +324,7 @@ fn normal_mapped_gltf_mesh_renders_as_its_flattened_twin() {
     let dir = workdir("twin");
     normal_png(&dir.join("normal.png"), 8, 8, |x, y| {
         let (a, b) = (x as f32 * 0.785 + 1.0, y as f32 * 0.785);
-        Vec3::new(0.45 * a.sin(), 0.45 * b.cos(), 1.0)
+        Vec3::new(0.45 * portable::sin(a), 0.45 * portable::cos(b), 1.0)
     });
     let sphere = bumpy_sphere(16, 10);
     let (verts, tris) = (sphere.pos.len(), sphere.idx.len() / 3);

@@ -10,6 +10,7 @@ mod scratch;
 
 use prism::film::Film;
 use prism::integrator;
+use prism::math::portable;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
@@ -23,8 +24,12 @@ fn workdir(name: &str) -> scratch::Scratch {
 fn bumpy_obj(nu: usize, nv: usize, smooth: bool) -> String {
     let mut s = String::new();
     let f = |th: f32, ph: f32| {
-        let r = 1.0 + 0.15 * (3.0 * th).sin() * (4.0 * ph).cos() * th.sin();
-        glam::Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()) * r
+        let r = 1.0 + 0.15 * portable::sin(3.0 * th) * portable::cos(4.0 * ph) * portable::sin(th);
+        glam::Vec3::new(
+            portable::sin(th) * portable::cos(ph),
+            portable::cos(th),
+            portable::sin(th) * portable::sin(ph),
+        ) * r
     };
     for j in 0..=nv {
         for i in 0..=nu {
@@ -308,7 +313,7 @@ fn write_grid_ply(path: &Path) -> usize {
     for j in 0..=n {
         for i in 0..=n {
             let (x, z) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
-            let y = 0.05 * (37.0 * x).sin() * (29.0 * z).cos();
+            let y = 0.05 * portable::sin(37.0 * x) * portable::cos(29.0 * z);
             for v in [x, y, z] {
                 body.extend(v.to_le_bytes());
             }

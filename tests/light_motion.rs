@@ -7,6 +7,7 @@
 
 mod scratch;
 use prism::film::Film;
+use prism::math::portable;
 use std::path::Path;
 use std::process::Command;
 
@@ -184,7 +185,7 @@ const QUAD: &str = r#"(shape: Rectangle, material: "black", emitter: (radiance: 
 /// both cosines 1/d at height 1, by the midpoint rule on an n × n grid of the quad.
 fn quad_radiance(x: f64, y: f64, t: f64, n: usize) -> f64 {
     let (cx, cy) = (-2.0 + 4.0 * t, 2.5);
-    let (s, c) = (t * std::f64::consts::FRAC_PI_2).sin_cos();
+    let (s, c) = portable::sin_cos(t * std::f64::consts::FRAC_PI_2);
     let da = 0.25 / (n * n) as f64;
     let mut e = 0.0;
     for k in 0..n * n {

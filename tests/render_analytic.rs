@@ -12,6 +12,7 @@ mod scratch;
 use common::mean_se;
 use prism::film::Film;
 use prism::integrator;
+use prism::math::portable;
 use std::path::Path;
 
 fn render(text: &str, threads: usize) -> Film {
@@ -314,10 +315,10 @@ fn spot_light_inside_transition_and_outside() {
     let light = r#"Spot(intensity: Scaled(5, Named("D65")), cutoff_angle: 30, beam_width: 20, to_world: [LookAt(origin: (0, 2, 0), target: (0, 0, 0), up: (0, 0, 1))])"#;
     for (deg, falloff) in [(10.0f64, 1.0), (25.0, 0.5), (40.0, 0.0)] {
         let t = deg.to_radians();
-        let x = (2.0 * t.tan()) as f32;
+        let x = (2.0 * portable::tan(t)) as f32;
         let film = render(&plane_scene(light, [x, 20.0, 0.0], [x, 0.0, 0.0], 0.01), 2);
         // E = I·falloff·cos θ / r², r = h / cos θ.
-        let geom = falloff * t.cos().powi(3) / 4.0;
+        let geom = falloff * portable::cos(t).powi(3) / 4.0;
         check_spectrum(
             &format!("spot {deg}°"),
             &film,
@@ -334,8 +335,8 @@ fn directional_light_at_an_angle() {
     let t = 35f32.to_radians();
     let light = format!(
         r#"Directional(irradiance: Scaled(2, Named("D65")), direction: ({}, {}, 0))"#,
-        t.sin(),
-        -t.cos()
+        portable::sin(t),
+        -portable::cos(t)
     );
     let text = plane_scene(&light, [0.0, 3.0, 0.5], [0.0, 0.0, 0.0], 40.0);
     let job = prism::load::load_str(&text, Path::new("inline.ron")).unwrap();
@@ -344,8 +345,8 @@ fn directional_light_at_an_angle() {
     let by_frame = plane_scene(
         &format!(
             "Directional(to_world: [LookAt(origin: (0, 0, 0), target: ({}, {}, 0), up: (0, 1, 0))])",
-            t.sin(),
-            -t.cos()
+            portable::sin(t),
+            -portable::cos(t)
         ),
         [0.0, 3.0, 0.5],
         [0.0, 0.0, 0.0],
@@ -363,7 +364,7 @@ fn directional_light_at_an_angle() {
     check_spectrum(
         "directional",
         &film,
-        RHO / std::f64::consts::PI * t.cos() as f64,
+        RHO / std::f64::consts::PI * portable::cos(t) as f64,
         &named("D65").scaled(2.0),
     );
 }
@@ -465,7 +466,7 @@ fn two_hemisphere_envmap() {
     let flipped = (0..m)
         .map(|i| {
             let t = (i as f64 + 0.5) / m as f64 * horizon;
-            2.0 * upside_down(t) * t.cos() * t.sin()
+            2.0 * upside_down(t) * portable::cos(t) * portable::sin(t)
         })
         .sum::<f64>()
         * horizon

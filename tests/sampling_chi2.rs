@@ -11,6 +11,7 @@ use common::{alpha, chi2_test, receiver};
 use glam::{Vec2, Vec3};
 use prism::emitter::EnvMap;
 use prism::filter::{Filter, FilterConfig};
+use prism::math::portable;
 use prism::math::rng::Pcg32;
 use prism::math::{sampling, Frame};
 use prism::spectrum::{WavelengthSampler, WavelengthSampling, Wavelengths};
@@ -74,7 +75,7 @@ fn chi2_directions_sub(
             "a sample at 1 − cos θ = {omc} lies outside the tested region ({span})"
         );
         let it = ((omc / d_omc) as usize).min(NT - 1);
-        let phi = l.y.atan2(l.x).rem_euclid(2.0 * std::f64::consts::PI);
+        let phi = portable::atan2(l.y, l.x).rem_euclid(2.0 * std::f64::consts::PI);
         let ip = ((phi / (2.0 * std::f64::consts::PI) * NP as f64) as usize).min(NP - 1);
         observed[it * NP + ip] += 1.0;
     }
@@ -88,7 +89,8 @@ fn chi2_directions_sub(
                     let omc = (it as f64 + (a as f64 + 0.5) / sub as f64) * d_omc;
                     let phi = (ip as f64 + (b as f64 + 0.5) / sub as f64) * dphi;
                     let s = (omc * (2.0 - omc)).max(0.0).sqrt();
-                    let local = glam::DVec3::new(s * phi.cos(), s * phi.sin(), 1.0 - omc);
+                    let local =
+                        glam::DVec3::new(s * portable::cos(phi), s * portable::sin(phi), 1.0 - omc);
                     let d = frame.to_world(local.as_vec3()).normalize();
                     sum += pdf(d);
                 }
@@ -223,7 +225,8 @@ fn concentric_disk_is_uniform() {
         let r2 = p.length_squared();
         assert!(r2 <= 1.0 + 1e-6);
         let i = ((r2 * k as f32) as usize).min(k - 1);
-        let j = ((p.y.atan2(p.x).rem_euclid(2.0 * PI) / (2.0 * PI) * k as f32) as usize).min(k - 1);
+        let j = ((portable::atan2(p.y, p.x).rem_euclid(2.0 * PI) / (2.0 * PI) * k as f32) as usize)
+            .min(k - 1);
         obs[i * k + j] += 1.0;
     }
     let exp = vec![n as f64 / (k * k) as f64; k * k];
@@ -379,7 +382,8 @@ fn gaussian_filter_importance_sampling() {
         obs[(((o.x + r) / (2.0 * r) * bins as f32) as usize).min(bins - 1)] += 1.0;
     }
     // Mitsuba's kernel: exp(−x²/2σ²) − exp(−r²/2σ²), clamped at 0, integrated per bin.
-    let kernel = |x: f64| ((-x * x / 0.5).exp() - (-(r as f64).powi(2) / 0.5).exp()).max(0.0);
+    let kernel =
+        |x: f64| (portable::exp(-x * x / 0.5) - portable::exp(-(r as f64).powi(2) / 0.5)).max(0.0);
     let m = 256;
     let mass: Vec<f64> = (0..bins)
         .map(|b| {
@@ -405,7 +409,11 @@ fn sky_image() -> RgbImage {
     let (w, h) = (64, 33);
     let sun = {
         let (t, p) = (50f32.to_radians(), 1.1f32);
-        Vec3::new(p.sin() * t.sin(), t.cos(), -p.cos() * t.sin())
+        Vec3::new(
+            portable::sin(p) * portable::sin(t),
+            portable::cos(t),
+            -portable::cos(p) * portable::sin(t),
+        )
     };
     let pixels = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
@@ -413,9 +421,9 @@ fn sky_image() -> RgbImage {
             let theta = PI * j as f32 / (h - 1) as f32;
             let phi = 2.0 * PI * (i as f32 + 0.5) / w as f32;
             let d = Vec3::new(
-                phi.sin() * theta.sin(),
-                theta.cos(),
-                -phi.cos() * theta.sin(),
+                portable::sin(phi) * portable::sin(theta),
+                portable::cos(theta),
+                -portable::cos(phi) * portable::sin(theta),
             );
             let sky = if d.y >= 0.0 {
                 let t = 1.0 - d.y;
@@ -423,8 +431,8 @@ fn sky_image() -> RgbImage {
             } else {
                 [0.05, 0.04, 0.03]
             };
-            let a = d.dot(sun).clamp(-1.0, 1.0).acos();
-            let blob = 30.0 * (-0.5 * (a / 4f32.to_radians()).powi(2)).exp();
+            let a = portable::acos(d.dot(sun).clamp(-1.0, 1.0));
+            let blob = 30.0 * portable::exp(-0.5 * (a / 4f32.to_radians()).powi(2));
             sky.map(|c| c + blob)
         })
         .collect();
@@ -491,12 +499,12 @@ fn spot_emission_profile() {
         ));
         let (c, b) = (cutoff.to_radians(), beam.to_radians());
         let norm = if c > b {
-            2.0 * std::f64::consts::PI * (1.0 - (c.sin() - b.sin()) / (c - b))
+            2.0 * std::f64::consts::PI * (1.0 - (portable::sin(c) - portable::sin(b)) / (c - b))
         } else {
-            2.0 * std::f64::consts::PI * (1.0 - c.cos())
+            2.0 * std::f64::consts::PI * (1.0 - portable::cos(c))
         };
         let profile = |d: Vec3| {
-            let t = (d.as_dvec3().dot(axis.as_dvec3())).clamp(-1.0, 1.0).acos();
+            let t = portable::acos((d.as_dvec3().dot(axis.as_dvec3())).clamp(-1.0, 1.0));
             if t >= c {
                 0.0
             } else if t <= b {
@@ -523,7 +531,7 @@ fn spot_emission_profile() {
             },
             |d| profile(d) / norm,
             axis,
-            1.1 * (1.0 - c.cos()),
+            1.1 * (1.0 - portable::cos(c)),
             200_000,
         );
         assert_pass(name, r);

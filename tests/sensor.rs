@@ -10,6 +10,7 @@ use common::{alpha, chi2_test, mean_se};
 use prism::error::Error;
 use prism::film::Film;
 use prism::integrator;
+use prism::math::portable;
 use std::path::Path;
 
 fn render_at(text: &str, file: &Path, threads: usize) -> Film {
@@ -295,7 +296,7 @@ fn sensor_wavelength_sampling_is_the_documented_mixture() {
     let cam = prism::sensor::camera::named("sony_ilce_7m3").unwrap();
     let groups: [&dyn Fn(f64) -> f64; 3] = [
         &|l| cmf.eval(l as f32).iter().map(|&v| v as f64).sum(),
-        &|l| (-4.0 * 2f64.ln() * (l - 850.0).powi(2) / (40.0 * 40.0)).exp(),
+        &|l| portable::exp(-4.0 * portable::ln(2f64) * (l - 850.0).powi(2) / (40.0 * 40.0)),
         &|l| cam.iter().map(|c| c.eval_one(l as f32) as f64).sum(),
     ];
     let h = 0.05;

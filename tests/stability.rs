@@ -4,6 +4,7 @@
 
 use prism::film::Film;
 use prism::integrator::{self, RenderStats};
+use prism::math::portable;
 use std::path::Path;
 
 fn render(text: &str) -> (Film, RenderStats) {
@@ -175,11 +176,11 @@ fn mse(kind: &str, spp: u32, pairs: u64) -> f64 {
 fn slope(points: &[(f64, f64)]) -> f64 {
     let n = points.len() as f64;
     let (mx, my) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
-        (a + x.ln() / n, b + y.ln() / n)
+        (a + portable::ln(x) / n, b + portable::ln(y) / n)
     });
     let (num, den) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
-        let dx = x.ln() - mx;
-        (a + dx * (y.ln() - my), b + dx * dx)
+        let dx = portable::ln(x) - mx;
+        (a + dx * (portable::ln(y) - my), b + dx * dx)
     });
     num / den
 }

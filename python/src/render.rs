@@ -7,6 +7,7 @@ use crate::progress::{Counter, Reporter};
 use crate::to_py;
 use numpy::{PyArray1, PyArrayMethods};
 use prism_core::load::Job;
+use prism_core::math::portable;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
@@ -118,7 +119,7 @@ type Outcome = Result<Result<(Rendered, Job), glue::Cancelled>, prism_core::erro
 /// changes its config; the render with the job's shell (`glue::shell`) to write it by.
 fn render_scene(scene: &Scene, o: &Overrides, cancel: &AtomicBool, counter: &Counter) -> Outcome {
     let st = scene.read();
-    let scale = st.exposure.exp2();
+    let scale = portable::exp2(st.exposure);
     let go = |job: &Job| -> Outcome {
         let s = &job.settings;
         counter.start(s.width as u64 * s.height as u64 * s.spp as u64);

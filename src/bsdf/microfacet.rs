@@ -4,6 +4,7 @@
 //! Conventions as Mitsuba 3: local frame with the macro-normal +z; `alpha_u`, `alpha_v` the
 //! roughness along the tangent and bitangent; G = G1(wi) · G1(wo) (uncorrelated Smith).
 
+use crate::math::portable;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -37,7 +38,7 @@ pub fn erf(x: f32) -> f32 {
         * (0.254_829_592
             + t * (-0.284_496_736
                 + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
-    s * (1.0 - poly * (-x * x).exp()) as f32
+    s * (1.0 - poly * portable::exp(-x * x)) as f32
 }
 
 /// erf⁻¹(x) for x in (−1, 1), Giles' single-precision approximation (2010).
@@ -45,7 +46,7 @@ pub fn erf(x: f32) -> f32 {
 #[allow(clippy::excessive_precision)]
 #[inline]
 pub fn erfinv(x: f32) -> f32 {
-    let w = -((1.0 - x) * (1.0 + x)).max(1e-30).ln();
+    let w = -portable::ln(((1.0 - x) * (1.0 + x)).max(1e-30));
     let p = if w < 5.0 {
         let w = w - 2.5;
         let mut p = 2.810_226_36e-08f32;
@@ -104,7 +105,7 @@ impl Microfacet {
             / cos2;
         let norm = PI * self.alpha_u * self.alpha_v * cos2 * cos2;
         let r = match self.kind {
-            Distribution::Beckmann => (-e).exp() / norm,
+            Distribution::Beckmann => portable::exp(-e) / norm,
             Distribution::Ggx => 1.0 / (norm * (1.0 + e) * (1.0 + e)),
         };
         if r * m.z > 1e-20 {
@@ -130,7 +131,7 @@ impl Microfacet {
                 if a > 6.0 {
                     return 0.0;
                 }
-                0.5 * (erf(a) - 1.0) + (-a * a).exp() / (2.0 * a) * INV_SQRT_PI
+                0.5 * (erf(a) - 1.0) + portable::exp(-a * a) / (2.0 * a) * INV_SQRT_PI
             }
         }
     }
@@ -198,7 +199,7 @@ impl Microfacet {
         let t2 = v.cross(t1);
         let r = u.x.sqrt();
         let phi = 2.0 * PI * u.y;
-        let (sp, cp) = phi.sin_cos();
+        let (sp, cp) = portable::sin_cos(phi);
         let p1 = r * cp;
         let s = 0.5 * (1.0 + v.z);
         let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * sp;
@@ -212,8 +213,8 @@ impl Microfacet {
 /// slope y is Gaussian).
 fn beckmann_sample_unit_slopes(cos_t: f32, u: Vec2) -> Vec2 {
     if cos_t > 0.9999 {
-        let r = (-(1.0 - u.x).max(1e-12).ln()).sqrt();
-        let (s, c) = (2.0 * PI * u.y).sin_cos();
+        let r = (-portable::ln((1.0 - u.x).max(1e-12))).sqrt();
+        let (s, c) = portable::sin_cos(2.0 * PI * u.y);
         return Vec2::new(r * c, r * s);
     }
     let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
@@ -223,17 +224,17 @@ fn beckmann_sample_unit_slopes(cos_t: f32, u: Vec2) -> Vec2 {
     // 1 + b + tan θ e^{−erfinv(b)²} / √π on [−1, erf(cot θ)].
     let (mut lo, mut hi) = (-1.0f32, erf(cot_t));
     let sample_x = u.x.max(1e-6);
-    let theta = cos_t.acos();
+    let theta = portable::acos(cos_t);
     // An approximate inverse as the start point (the paper's fit).
     let fit = 1.0 + theta * (-0.876 + theta * (0.4265 - 0.0594 * theta));
-    let mut b = hi - (1.0 + hi) * (1.0 - sample_x).powf(fit);
-    let norm = 1.0 / (1.0 + hi + INV_SQRT_PI * tan_t * (-cot_t * cot_t).exp());
+    let mut b = hi - (1.0 + hi) * portable::powf(1.0 - sample_x, fit);
+    let norm = 1.0 / (1.0 + hi + INV_SQRT_PI * tan_t * portable::exp(-cot_t * cot_t));
     for _ in 0..12 {
         if !(b >= lo && b <= hi) {
             b = 0.5 * (lo + hi);
         }
         let x = erfinv(b);
-        let value = norm * (1.0 + b + INV_SQRT_PI * tan_t * (-x * x).exp()) - sample_x;
+        let value = norm * (1.0 + b + INV_SQRT_PI * tan_t * portable::exp(-x * x)) - sample_x;
         let derivative = norm * (1.0 - x * tan_t);
         if value.abs() < 1e-6 {
             break;
@@ -282,7 +283,11 @@ mod tests {
                     for j in 0..n {
                         let phi = (j as f64 + 0.5) / n as f64 * 2.0 * std::f64::consts::PI;
                         let s = (1.0 - c * c).max(0.0).sqrt();
-                        let h = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, c as f32);
+                        let h = Vec3::new(
+                            (s * portable::cos(phi)) as f32,
+                            (s * portable::sin(phi)) as f32,
+                            c as f32,
+                        );
                         let dw = dc * 2.0 * std::f64::consts::PI / n as f64;
                         proj += m.d(h) as f64 * c * dw;
                         vis += m.pdf_visible(wi, h) as f64 * dw;

@@ -19,6 +19,7 @@ pub use ortho::Orthographic;
 pub use pinhole::{FovAxis, Intrinsics, Pinhole, Projection};
 pub use thin_lens::{ThinLens, LENS_DIM};
 
+use crate::math::portable;
 use crate::math::Transform;
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
@@ -195,7 +196,7 @@ impl Camera {
         if s == 0.0 {
             return DVec3::ZERO;
         }
-        v * (2.0 * s.atan2(w) / s)
+        v * (2.0 * portable::atan2(s, w) / s)
     }
 
     /// Camera → world in OpenGL's (and Blender's) camera frame: x right, y up, looking along −z.

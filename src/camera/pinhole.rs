@@ -1,5 +1,6 @@
 //! The pinhole camera and the film-to-plane map (`Intrinsics`) every model shares.
 
+use crate::math::portable;
 use crate::math::Transform;
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
@@ -41,7 +42,7 @@ impl Intrinsics {
     pub fn from_fov(fov_deg: f32, axis: FovAxis, width: u32, height: u32) -> Self {
         let (w, h) = (width as f32, height as f32);
         let aspect = w / h;
-        let t = (fov_deg.to_radians() * 0.5).tan();
+        let t = portable::tan(fov_deg.to_radians() * 0.5);
         let axis = match axis {
             FovAxis::Smaller if aspect > 1.0 => FovAxis::Y,
             FovAxis::Smaller => FovAxis::X,
@@ -295,7 +296,7 @@ mod tests {
         // The image's right edge looks towards world +x, the top edge towards +y.
         assert!(cam.ray(Vec2::new(256.0, 128.0)).d.x > 0.3);
         assert!(cam.ray(Vec2::new(128.0, 0.0)).d.y > 0.3);
-        let half = (cam.ray(Vec2::new(256.0, 128.0)).d.x).asin().to_degrees();
+        let half = portable::asin(cam.ray(Vec2::new(256.0, 128.0)).d.x).to_degrees();
         assert!((half - 39.3077 / 2.0).abs() < 1e-3);
     }
 
@@ -303,10 +304,10 @@ mod tests {
     fn fov_axes() {
         let t = Transform::IDENTITY;
         let wide = Pinhole::new(t, 60.0, FovAxis::Y, 0.01, 1e4, 200, 100);
-        assert!((wide.tan_half_fov().y - 30f32.to_radians().tan()).abs() < 1e-6);
+        assert!((wide.tan_half_fov().y - portable::tan(30f32.to_radians())).abs() < 1e-6);
         let smaller = Pinhole::new(t, 60.0, FovAxis::Smaller, 0.01, 1e4, 200, 100);
         assert_eq!(wide.tan_half_fov(), smaller.tan_half_fov());
         let d = Pinhole::new(t, 60.0, FovAxis::Diagonal, 0.01, 1e4, 300, 400);
-        assert!((d.tan_half_fov().length() - 30f32.to_radians().tan()).abs() < 1e-6);
+        assert!((d.tan_half_fov().length() - portable::tan(30f32.to_radians())).abs() < 1e-6);
     }
 }

@@ -9,6 +9,7 @@ use super::view;
 use crate::config::sensor::{SensorField, SensorFile};
 use crate::config::{SceneConfig, SpectrumConfig, TransformOp};
 use crate::error::InputError;
+use crate::math::portable;
 use crate::spectrum::Curve;
 use glam::Vec3;
 use serde_json::{json, Value};
@@ -328,7 +329,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
         }
         let stops = v.exposure.map(|x| r.range(x));
         if let Some(e) = stops {
-            exposure_scale = e.exp2();
+            exposure_scale = portable::exp2(e);
         }
         params.insert("sensor".into(), json!({"file": file, "exposure": stops}));
     }

@@ -6,6 +6,7 @@
 //! loop in one variation cannot shift another's draws.
 
 use super::config::Range;
+use crate::math::portable;
 use glam::Vec3;
 
 /// SplitMix64's finaliser (Steele, Lea & Flood 2014, "Fast splittable pseudorandom number
@@ -131,7 +132,13 @@ impl Rng {
 /// degrees about +y measured from +z towards +x.
 pub fn shell_point(target: Vec3, radius: f32, elevation: f32, azimuth: f32) -> Vec3 {
     let (el, az) = (elevation.to_radians(), azimuth.to_radians());
-    target + radius * Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
+    target
+        + radius
+            * Vec3::new(
+                portable::cos(el) * portable::sin(az),
+                portable::sin(el),
+                portable::cos(el) * portable::cos(az),
+            )
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@
 //! non-zero wherever the interpolated map is. In solid angle, pdf = pdf_uv / (2π² sin θ).
 
 use crate::math::distribution::Distribution1D;
+use crate::math::portable;
 use crate::spectrum::curve::Dense;
 use crate::spectrum::gamut::Gamut;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
@@ -115,7 +116,7 @@ impl EnvMap {
         for j in 0..h - 1 {
             // Mean of sin θ over the cell's rows: (cos θ_j − cos θ_{j+1}) / Δθ.
             let (t0, t1) = (j as f64 * dtheta as f64, (j + 1) as f64 * dtheta as f64);
-            let mean_sin = ((t0.cos() - t1.cos()) / (t1 - t0)) as f32;
+            let mean_sin = ((portable::cos(t0) - portable::cos(t1)) / (t1 - t0)) as f32;
             let cells: Vec<f32> = (0..w)
                 .map(|i| {
                     let i1 = (i + 1) % w;
@@ -162,8 +163,11 @@ impl EnvMap {
     /// Local direction → (u, v) in [0, 1)×[0, 1].
     #[inline]
     fn uv(d: Vec3) -> Vec2 {
-        let u = d.x.atan2(-d.z) * (0.5 / PI);
-        Vec2::new(u - u.floor(), d.y.clamp(-1.0, 1.0).acos() * (1.0 / PI))
+        let u = portable::atan2(d.x, -d.z) * (0.5 / PI);
+        Vec2::new(
+            u - u.floor(),
+            portable::acos(d.y.clamp(-1.0, 1.0)) * (1.0 / PI),
+        )
     }
 
     /// Radiance arriving from world direction `d` (pointing away from the scene).
@@ -219,8 +223,8 @@ impl EnvMap {
         let (x, pdf_x, _) = self.conditional[j].sample_continuous(u.x);
         // Cells start at the first column's centre.
         let uu = x + 0.5 / self.width as f32;
-        let (sin_t, cos_t) = (PI * v).sin_cos();
-        let (sin_p, cos_p) = (2.0 * PI * uu).sin_cos();
+        let (sin_t, cos_t) = portable::sin_cos(PI * v);
+        let (sin_p, cos_p) = portable::sin_cos(2.0 * PI * uu);
         if sin_t <= 0.0 {
             return None;
         }
@@ -284,7 +288,7 @@ impl EnvMap {
             // The cell's solid angle over the sphere's: its probability over that is its
             // luminance over the mean.
             let (t0, t1) = (j as f64 * dtheta, (j + 1) as f64 * dtheta);
-            let share = ((t0.cos() - t1.cos()) / (2.0 * w as f64)) as f32;
+            let share = ((portable::cos(t0) - portable::cos(t1)) / (2.0 * w as f64)) as f32;
             for i in 0..w {
                 let p = self.cell_probability(j * w + i);
                 if p > 0.0 && p >= ratio * share {
@@ -312,8 +316,8 @@ impl EnvMap {
         // Cells start at the first column's centre, as in `sample`.
         let uu = (i as f32 + ux + 0.5) / w as f32;
         let v = (j as f32 + u.y) / rows as f32;
-        let (sin_t, cos_t) = (PI * v).sin_cos();
-        let (sin_p, cos_p) = (2.0 * PI * uu).sin_cos();
+        let (sin_t, cos_t) = portable::sin_cos(PI * v);
+        let (sin_p, cos_p) = portable::sin_cos(2.0 * PI * uu);
         if sin_t <= 0.0 {
             return None;
         }

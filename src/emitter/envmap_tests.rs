@@ -2,6 +2,7 @@
 //! agreement with sampling, and the bright cells (a sun) sampled by energy.
 
 use super::*;
+use crate::math::portable;
 
 fn image(w: usize, h: usize, f: impl Fn(usize, usize) -> [f32; 3]) -> RgbImage {
     RgbImage {
@@ -39,9 +40,9 @@ fn texel_centres_land_where_mitsuba_puts_them() {
     let m = EnvMap::new(&img, 1.0, Mat3::IDENTITY);
     let (phi, theta) = (2.0 * PI * 3.5 / 16.0, PI * 0.25);
     let d = Vec3::new(
-        phi.sin() * theta.sin(),
-        theta.cos(),
-        -phi.cos() * theta.sin(),
+        portable::sin(phi) * portable::sin(theta),
+        portable::cos(theta),
+        -portable::cos(phi) * portable::sin(theta),
     );
     let d65 = m.d65.eval(550.0);
     let at = m.eval(d, &wl(550.0))[0] / d65;
@@ -50,9 +51,9 @@ fn texel_centres_land_where_mitsuba_puts_them() {
     // halved, so the value is ¼ (Mitsuba interpolates them separately and multiplies).
     let phi2 = phi + PI / 16.0;
     let d2 = Vec3::new(
-        phi2.sin() * theta.sin(),
-        theta.cos(),
-        -phi2.cos() * theta.sin(),
+        portable::sin(phi2) * portable::sin(theta),
+        portable::cos(theta),
+        -portable::cos(phi2) * portable::sin(theta),
     );
     let half = m.eval(d2, &wl(550.0))[0] / d65;
     assert!((half - 0.25).abs() < 1e-3, "{half}");
@@ -100,9 +101,9 @@ fn pdf_is_proportional_to_luminance() {
             let theta = PI * (j as f32 + 0.5) / (h - 1) as f32;
             let phi = 2.0 * PI * (i as f32 + 1.0) / w as f32;
             let d = Vec3::new(
-                phi.sin() * theta.sin(),
-                theta.cos(),
-                -phi.cos() * theta.sin(),
+                portable::sin(phi) * portable::sin(theta),
+                portable::cos(theta),
+                -portable::cos(phi) * portable::sin(theta),
             );
             ratios.push(m.pdf(d) as f64 / corners);
         }
@@ -126,7 +127,7 @@ fn pdf_integrates_to_one_and_matches_sampling() {
         let r = (1.0 - z * z).sqrt();
         for b in 0..2 * n {
             let p = 2.0 * PI * (b as f32 + 0.5) / (2 * n) as f32;
-            total += m.pdf(Vec3::new(r * p.cos(), r * p.sin(), z)) as f64;
+            total += m.pdf(Vec3::new(r * portable::cos(p), r * portable::sin(p), z)) as f64;
         }
     }
     total *= 4.0 * std::f64::consts::PI / (2 * n * n) as f64;
@@ -217,7 +218,7 @@ fn bright_cells_hold_the_sun_and_sample_it_by_energy() {
                 std::f64::consts::PI * j as f64 / rows as f64,
                 std::f64::consts::PI * (j + 1) as f64 / rows as f64,
             );
-            (t0.cos() - t1.cos()) * 2.0 * std::f64::consts::PI / w as f64
+            (portable::cos(t0) - portable::cos(t1)) * 2.0 * std::f64::consts::PI / w as f64
         })
         .sum();
     let (mean, se) = inverse_pdf_mean(n, |u| m.sample_bright(&b, u));

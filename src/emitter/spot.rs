@@ -5,6 +5,7 @@
 
 use super::EmitterSample;
 use crate::interaction::SurfaceInteraction;
+use crate::math::portable;
 use crate::math::Transform;
 use crate::spectrum::{Curve, Wavelengths};
 use glam::{Mat3, Mat4, Vec3};
@@ -36,8 +37,8 @@ impl Spot {
             intensity,
             cutoff,
             beam,
-            cos_cutoff: cutoff.cos(),
-            cos_beam: beam.cos(),
+            cos_cutoff: portable::cos(cutoff),
+            cos_beam: portable::cos(beam),
             cutoff_deg,
             beam_deg,
         }
@@ -75,7 +76,7 @@ impl Spot {
             1.0
         } else {
             // Only reached when beam < θ < cutoff, so the width is not zero.
-            ((self.cutoff - cos_t.clamp(-1.0, 1.0).acos()) / (self.cutoff - self.beam))
+            ((self.cutoff - portable::acos(cos_t.clamp(-1.0, 1.0))) / (self.cutoff - self.beam))
                 .clamp(0.0, 1.0)
         }
     }
@@ -155,7 +156,7 @@ mod tests {
         let s = Spot::new(&Transform::IDENTITY, Curve::Constant(1.0), 30.0, 20.0);
         let at = |deg: f32| {
             let t = deg.to_radians();
-            s.falloff(Vec3::new(t.sin(), 0.0, t.cos()))
+            s.falloff(Vec3::new(portable::sin(t), 0.0, portable::cos(t)))
         };
         assert_eq!(at(0.0), 1.0);
         assert_eq!(at(19.0), 1.0);
@@ -171,11 +172,19 @@ mod tests {
             0.5f32.to_degrees(),
         );
         assert_eq!(
-            hard.falloff(Vec3::new(0.47f32.sin(), 0.0, 0.47f32.cos())),
+            hard.falloff(Vec3::new(
+                portable::sin(0.47f32),
+                0.0,
+                portable::cos(0.47f32)
+            )),
             1.0
         );
         assert_eq!(
-            hard.falloff(Vec3::new(0.53f32.sin(), 0.0, 0.53f32.cos())),
+            hard.falloff(Vec3::new(
+                portable::sin(0.53f32),
+                0.0,
+                portable::cos(0.53f32)
+            )),
             0.0
         );
     }

@@ -246,6 +246,7 @@ pub fn emitter(
 
 #[cfg(test)]
 mod tests {
+    use crate::math::portable;
     use crate::spectrum::Wavelengths;
     use glam::Vec3;
 
@@ -292,7 +293,7 @@ mod tests {
             let z = 1.0 - 2.0 * (k as f32 + 0.5) / 200.0;
             let phi = k as f32 * 2.399_963;
             let s = (1.0 - z * z).sqrt();
-            let d = Vec3::new(s * phi.cos(), z, s * phi.sin());
+            let d = Vec3::new(s * portable::cos(phi), z, s * portable::sin(phi));
             let (a, b) = (hdr.le_env(d, &wl), exr.le_env(d, &wl));
             for l in 0..4 {
                 assert!(

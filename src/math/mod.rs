@@ -4,6 +4,7 @@ pub mod chi2;
 pub mod distribution;
 pub mod float;
 pub mod frame;
+pub mod portable;
 pub mod rng;
 pub mod sampling;
 pub mod transform;

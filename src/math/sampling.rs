@@ -1,6 +1,7 @@
 //! Warps from the unit square to the domains the renderer samples, each with its pdf.
 //! Every warp here has a chi-square test in `tests/sampling_chi2.rs`.
 
+use crate::math::portable;
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
 
@@ -17,7 +18,7 @@ pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
     } else {
         (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
     };
-    let (s, c) = theta.sin_cos();
+    let (s, c) = portable::sin_cos(theta);
     Vec2::new(r * c, r * s)
 }
 
@@ -39,7 +40,7 @@ pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
 pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let (s, c) = (2.0 * PI * u.y).sin_cos();
+    let (s, c) = portable::sin_cos(2.0 * PI * u.y);
     Vec3::new(r * c, r * s, z)
 }
 
@@ -52,7 +53,7 @@ pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     let omc = u.x * (1.0 - cos_max);
     let cos_t = 1.0 - omc;
     let sin_t = (omc * (2.0 - omc)).max(0.0).sqrt();
-    let (s, c) = (2.0 * PI * u.y).sin_cos();
+    let (s, c) = portable::sin_cos(2.0 * PI * u.y);
     Vec3::new(sin_t * c, sin_t * s, cos_t)
 }
 

@@ -249,6 +249,7 @@ impl Timing {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::portable;
 
     fn linear(keys: &[(f32, Mat4)]) -> Motion {
         let d: Vec<(Vec3, Quat, Vec3)> = keys
@@ -285,7 +286,7 @@ mod tests {
             ),
         ]);
         let p = m.matrix(1.0).transform_point3(Vec3::X);
-        let want = Vec3::new(2.0 + 0.5f32.cos(), 0.5f32.sin(), 0.0);
+        let want = Vec3::new(2.0 + portable::cos(0.5f32), portable::sin(0.5f32), 0.0);
         assert!((p - want).length() < 1e-5, "{p} vs {want}");
     }
 

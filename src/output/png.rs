@@ -2,6 +2,7 @@
 
 use crate::error::Error;
 use crate::film::Film;
+use crate::math::portable;
 use crate::spectrum::color::{srgb_encode, XYZ_TO_SRGB};
 use glam::Vec3;
 use std::path::Path;
@@ -23,7 +24,7 @@ pub fn write(film: &Film, path: &Path, exposure: f32) -> Result<(), Error> {
             }
         },
     };
-    let scale = exposure.exp2();
+    let scale = portable::exp2(exposure);
     let bytes: Vec<u8> = rgb
         .iter()
         .flat_map(|c| c.to_array())

@@ -8,6 +8,7 @@ use crate::error::Error;
 use crate::integrator::aov::Hit;
 use crate::integrator::RenderStats;
 use crate::load::Job;
+use crate::math::portable;
 use glam::{DMat3, DMat4};
 use serde_json::{json, Value};
 use sha2::{Digest, Sha256};
@@ -56,8 +57,8 @@ pub fn camera(cam: &Camera, width: u32, height: u32) -> Value {
         _ => {
             let k = cam.intrinsics();
             v["fov_deg"] = json!([
-                2.0 * (k.tan_half.x as f64).atan().to_degrees(),
-                2.0 * (k.tan_half.y as f64).atan().to_degrees()
+                2.0 * portable::atan(k.tan_half.x as f64).to_degrees(),
+                2.0 * portable::atan(k.tan_half.y as f64).to_degrees()
             ]);
         }
     }

@@ -14,6 +14,7 @@ use crate::integrator::aov::Hit;
 use crate::integrator::{self, RenderStats};
 use crate::io::paths;
 use crate::load::Job;
+use crate::math::portable;
 use crate::output;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -199,7 +200,7 @@ pub fn write(job: &Job, r: &Rendered, files: &Files) -> Result<Vec<PathBuf>, Err
 fn exposure(r: &Rendered) -> Option<serde_json::Value> {
     (r.exposure_scale != 1.0).then(|| {
         serde_json::json!({
-            "stops": r.exposure_scale.log2(),
+            "stops": portable::log2(r.exposure_scale),
             "scale": r.exposure_scale,
             "channels": r.scaled,
             "meaning": "each listed channel is the scene's value (in the units above) times `scale`, as if every light were `scale` times as bright; the AOVs are not scaled",

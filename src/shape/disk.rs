@@ -2,6 +2,7 @@
 //! surface data, uniform area sampling).
 
 use super::{AreaSample, PrimHit, SurfacePoint};
+use crate::math::portable;
 use crate::math::{sampling, Frame, Transform};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -45,7 +46,7 @@ impl Disk {
             n = -n;
         }
         let r = local.length();
-        let phi = local.y.atan2(local.x);
+        let phi = portable::atan2(local.y, local.x);
         let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
         let dpdu = self.to_world.vector(Vec3::new(-local.y, local.x, 0.0));
         SurfacePoint {

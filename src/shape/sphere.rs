@@ -3,6 +3,7 @@
 
 use super::{AreaSample, PrimHit, SurfacePoint};
 use crate::math::float::gamma;
+use crate::math::portable;
 use crate::math::{sampling, Frame};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -62,9 +63,9 @@ impl Sphere {
         let p = self.center + dir * self.radius;
         let p_error = gamma(5) * (self.center.abs() + (dir * self.radius).abs());
         let n = if self.flip { -dir } else { dir };
-        let phi = dir.y.atan2(dir.x);
+        let phi = portable::atan2(dir.y, dir.x);
         let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
-        let theta = dir.z.clamp(-1.0, 1.0).acos();
+        let theta = portable::acos(dir.z.clamp(-1.0, 1.0));
         let dpdu = Vec3::new(-dir.y, dir.x, 0.0);
         SurfacePoint {
             p,
@@ -130,7 +131,7 @@ impl Sphere {
         let ratio = (sin2_t / (sin_max * sin_max)).min(1.0);
         let cos_a = (sin2_t / sin_max + cos_t * (1.0 - ratio).sqrt()).clamp(-1.0, 1.0);
         let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
-        let (sp, cp) = (2.0 * PI * u.y).sin_cos();
+        let (sp, cp) = portable::sin_cos(2.0 * PI * u.y);
         let local = Vec3::new(sin_a * cp, sin_a * sp, cos_a);
         let dir = -frame.to_world(local);
         let s = self.surface_at(self.center + dir * r);

@@ -1,6 +1,7 @@
 //! Tests of the watertight triangle test (`shape::triangle`) and its 4-lane form.
 
 use super::*;
+use crate::math::portable;
 
 #[test]
 fn hits_inside_misses_outside() {
@@ -48,7 +49,11 @@ fn no_self_hits_leaving_a_rotated_triangle() {
         let frame = crate::math::frame::Frame::from_normal(n);
         let r = (1.0 - z * z).sqrt();
         for side in [1.0f32, -1.0] {
-            let d = frame.to_world(Vec3::new(r * phi.cos(), r * phi.sin(), z * side));
+            let d = frame.to_world(Vec3::new(
+                r * portable::cos(phi),
+                r * portable::sin(phi),
+                z * side,
+            ));
             let ray = Ray::new(p, d);
             if intersect(&RayShear::new(&ray), f32::INFINITY, &tri).is_some() {
                 self_hits += 1;

@@ -1,6 +1,7 @@
 //! CIE 1931 and 1964 colour matching and the XYZ ↔ linear sRGB conversion.
 
 use super::{data, table};
+use crate::math::portable;
 use glam::{Mat3, Vec3};
 use std::sync::OnceLock;
 
@@ -111,7 +112,7 @@ pub fn srgb_encode(v: f32) -> f32 {
     if v <= 0.003_130_8 {
         12.92 * v.max(0.0)
     } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
+        1.055 * portable::powf(v, 1.0 / 2.4) - 0.055
     }
 }
 

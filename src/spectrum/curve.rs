@@ -9,6 +9,7 @@ use super::knots::Knots;
 use super::rgb2spec::{self, Sigmoid};
 use super::sampled::Spectrum;
 use super::wavelengths::Wavelengths;
+use crate::math::portable;
 
 /// Samples on an even grid, linearly interpolated; 0 outside [start, start + (n-1)·step].
 #[derive(Clone, Debug, PartialEq)]
@@ -142,7 +143,7 @@ pub fn planck(lambda: f32, kelvin: f32) -> f32 {
     let l = lambda as f64 * 1e-9;
     let t = kelvin as f64;
     let radiance_per_m = 2.0 * PLANCK_H * LIGHT_C * LIGHT_C
-        / (l.powi(5) * ((PLANCK_H * LIGHT_C / (l * BOLTZMANN_K * t)).exp_m1()));
+        / (l.powi(5) * (portable::exp_m1(PLANCK_H * LIGHT_C / (l * BOLTZMANN_K * t))));
     (radiance_per_m * 1e-9) as f32
 }
 

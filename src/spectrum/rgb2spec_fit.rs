@@ -15,6 +15,7 @@
 mod coeffs;
 
 use super::table;
+use crate::math::portable;
 pub use coeffs::{fit_table, scale, CoeffTable};
 
 /// The integration range (nm): that of the CIE 1931 data in `spectra/cmf`.
@@ -298,7 +299,7 @@ impl FitData {
 fn lab_f(u: f64) -> (f64, f64) {
     const DELTA: f64 = 6.0 / 29.0;
     if u > DELTA * DELTA * DELTA {
-        let f = u.cbrt();
+        let f = portable::cbrt(u);
         (f, 1.0 / (3.0 * f * f))
     } else {
         let d = 1.0 / (3.0 * DELTA * DELTA);

@@ -7,6 +7,7 @@
 //!   sampling is closed-form. Over 360–830 nm this is exactly Mitsuba 3's visible sampling.
 //! - `Uniform`: p(λ) = 1 / (hi − lo). With it the rotation is Wilkie's λ_j = lo + ((λ_h − lo) + jΛ/N) mod Λ.
 
+use crate::math::portable;
 use serde::{Deserialize, Serialize};
 use wide::f32x4;
 
@@ -128,8 +129,8 @@ impl<const N: usize> Wavelengths<N> {
 impl WavelengthSampler {
     /// `lo < hi` in nm (validated by the config).
     pub fn new(kind: WavelengthSampling, lo: f32, hi: f32) -> Self {
-        let t_lo = (VIS_K * (lo - VIS_CENTER)).tanh();
-        let t_span = (VIS_K * (hi - VIS_CENTER)).tanh() - t_lo;
+        let t_lo = portable::tanh(VIS_K * (lo - VIS_CENTER));
+        let t_span = portable::tanh(VIS_K * (hi - VIS_CENTER)) - t_lo;
         assert!(
             kind != WavelengthSampling::Sensor,
             "Sensor sampling needs its density: WavelengthSampler::tabulated"
@@ -171,7 +172,7 @@ impl WavelengthSampler {
         let l = match self.kind {
             WavelengthSampling::Uniform => self.lo + u * (self.hi - self.lo),
             WavelengthSampling::Visible => {
-                VIS_CENTER + (self.t_lo + u * self.t_span).atanh() * (1.0 / VIS_K)
+                VIS_CENTER + portable::atanh(self.t_lo + u * self.t_span) * (1.0 / VIS_K)
             }
             WavelengthSampling::Sensor => self.table.expect("tabulated").sample(u).0,
         };
@@ -187,7 +188,7 @@ impl WavelengthSampler {
         match self.kind {
             WavelengthSampling::Uniform => 1.0 / (self.hi - self.lo),
             WavelengthSampling::Visible => {
-                let c = (VIS_K * (lambda - VIS_CENTER)).cosh();
+                let c = portable::cosh(VIS_K * (lambda - VIS_CENTER));
                 VIS_K / (c * c * self.t_span)
             }
             WavelengthSampling::Sensor => self.table.expect("tabulated").pdf(lambda),
@@ -200,7 +201,7 @@ impl WavelengthSampler {
         match self.kind {
             WavelengthSampling::Uniform => (l - self.lo) / (self.hi - self.lo),
             WavelengthSampling::Visible => {
-                ((VIS_K * (l - VIS_CENTER)).tanh() - self.t_lo) / self.t_span
+                (portable::tanh(VIS_K * (l - VIS_CENTER)) - self.t_lo) / self.t_span
             }
             WavelengthSampling::Sensor => self.table.expect("tabulated").cdf(l),
         }
@@ -293,7 +294,7 @@ mod tests {
         // Mitsuba 3: λ = 538 − 138.888·atanh(0.85691 − 1.82750·u).
         let s = WavelengthSampler::new(WavelengthSampling::Visible, 360.0, 830.0);
         for &u in &[0.01f32, 0.25, 0.5, 0.75, 0.99] {
-            let mitsuba = 538.0 - 138.888_89 * (0.856_910_6 - 1.827_502 * u).atanh();
+            let mitsuba = 538.0 - 138.888_89 * portable::atanh(0.856_910_6 - 1.827_502 * u);
             assert!((s.sample_one(u) - mitsuba).abs() < 0.02, "u={u}");
         }
     }

@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::io::input_file;
+use crate::math::portable;
 use crate::spectrum::gamut::Gamut;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
 
@@ -126,7 +127,7 @@ pub fn srgb_decode(v: f32) -> f32 {
     if v <= 0.040_45 {
         v / 12.92
     } else {
-        ((v + 0.055) / 1.055).powf(2.4)
+        portable::powf((v + 0.055) / 1.055, 2.4)
     }
 }
 

@@ -2,6 +2,8 @@
 //! emitter sampling.
 #![allow(dead_code)]
 
+pub mod scenes;
+
 /// Mean and standard error of the mean of a set of values (pixels of one channel).
 pub fn mean_se(data: &[f32]) -> (f64, f64) {
     let n = data.len() as f64;
@@ -13,10 +15,11 @@ pub fn mean_se(data: &[f32]) -> (f64, f64) {
 // Not every test binary uses every helper (as dead_code above).
 #[allow(unused_imports)]
 pub use prism::math::chi2::{chi2_sf, chi2_test, gamma_q, ln_gamma};
+use prism::math::portable;
 
 /// Significance level of each test: 1% overall, split over the `tests` a file runs (Šidák).
 pub fn alpha(tests: usize) -> f64 {
-    1.0 - (1.0 - 0.01f64).powf(1.0 / tests as f64)
+    1.0 - portable::powf(1.0 - 0.01f64, 1.0 / tests as f64)
 }
 
 /// A receiving point for emitter sampling: at `p`, facing +y, on no shape.
@@ -47,7 +50,9 @@ pub fn beta_inc(a: f64, b: f64, x: f64) -> f64 {
     if x > (a + 1.0) / (a + b + 2.0) {
         return 1.0 - beta_inc(b, a, 1.0 - x);
     }
-    let ln_front = ln_gamma(a + b) - ln_gamma(a) - ln_gamma(b) + a * x.ln() + b * (1.0 - x).ln();
+    let ln_front = ln_gamma(a + b) - ln_gamma(a) - ln_gamma(b)
+        + a * portable::ln(x)
+        + b * portable::ln(1.0 - x);
     let tiny = 1e-300;
     let (mut c, mut d) = (1.0, 1.0 - (a + b) * x / (a + 1.0));
     if d.abs() < tiny {
@@ -76,7 +81,7 @@ pub fn beta_inc(a: f64, b: f64, x: f64) -> f64 {
             break;
         }
     }
-    ln_front.exp() * h / a
+    portable::exp(ln_front) * h / a
 }
 
 /// Two-sided P(|T| ≥ |t|) for Student's t with `dof` degrees of freedom (any real dof > 0).

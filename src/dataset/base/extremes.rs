@@ -14,6 +14,7 @@ use crate::dataset::apply::{self, EmitterSlot};
 use crate::dataset::config::{LookAtVariation, Range};
 use crate::error::InputError;
 use crate::load::extent::MAX_COORD;
+use crate::math::portable;
 use crate::spectrum::Curve;
 use glam::Vec3;
 use std::path::Path;
@@ -270,8 +271,8 @@ impl Base {
             if d.y.abs() >= 1.0 {
                 continue; // elevation ±90°, outside the checked (−89.9, 89.9)
             }
-            let e = d.y.asin().to_degrees();
-            let a = d.x.atan2(d.z).to_degrees();
+            let e = portable::asin(d.y).to_degrees();
+            let a = portable::atan2(d.x, d.z).to_degrees();
             let tol = 1e-3;
             let in_az = (-3..=3).any(|k| {
                 let a = a + 360.0 * k as f32;

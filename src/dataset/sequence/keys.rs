@@ -7,6 +7,7 @@ use crate::config::{KeyConfig, SceneConfig, TransformOp};
 use crate::dataset::base::Base;
 use crate::dataset::vary::Rng;
 use crate::error::InputError;
+use crate::math::portable;
 use glam::{Mat4, Vec3};
 use serde_json::{json, Value};
 
@@ -81,7 +82,7 @@ pub(super) fn camera_keys(
             let mut heading = r.range((0.0, 360.0)).to_radians();
             let mut rate = r.symmetric(*turn);
             let dt = times[1] - times[0];
-            let step = |h: f32| Vec3::new(h.sin(), 0.0, h.cos()) * v * dt;
+            let step = |h: f32| Vec3::new(portable::sin(h), 0.0, portable::cos(h)) * v * dt;
             // Frame −1 lies one step behind the start, along the first heading.
             let mut pos = o - step(heading);
             let mut path = Vec::with_capacity(times.len());
@@ -131,7 +132,7 @@ pub(super) fn object_keys(
     let scale = p.x_axis.truncate().length();
     let radius = 0.5 * glam::Vec2::new(hi.x - lo.x, hi.z - lo.z).length() * scale;
     let angle = r.range((0.0, 360.0)).to_radians();
-    let dir = Vec3::new(angle.cos(), 0.0, angle.sin());
+    let dir = Vec3::new(portable::cos(angle), 0.0, portable::sin(angle));
     let drawn = r.range(om.speed);
     let spin = r.range(om.spin);
     let mut v = drawn;

@@ -13,6 +13,7 @@ use crate::config::{AnimationConfig, EmitterConfig, KeyConfig, Placement, SceneC
 use crate::dataset::base::{Base, LightRef};
 use crate::dataset::vary::Rng;
 use crate::error::InputError;
+use crate::math::portable;
 use glam::{Mat4, Vec3};
 use serde_json::{json, Value};
 
@@ -28,7 +29,7 @@ pub(super) fn animate(
     r: &mut Rng,
 ) -> Result<Option<Value>, InputError> {
     let angle = r.range((0.0, 360.0)).to_radians();
-    let dir = Vec3::new(angle.cos(), 0.0, angle.sin());
+    let dir = Vec3::new(portable::cos(angle), 0.0, portable::sin(angle));
     let speed = r.range(lm.speed);
     let orbit = r.range(lm.orbit);
     let busy = |what: &str| {

@@ -12,6 +12,7 @@
 use super::*;
 use crate::emitter::EnvMap;
 use crate::math::chi2::chi2_test;
+use crate::math::portable;
 use crate::math::rng::Pcg32;
 use crate::math::Frame;
 use crate::texture::RgbImage;
@@ -161,17 +162,17 @@ fn environment_bright_cells_match_their_density() {
     // with local = (sin φ sin θ, cos θ, −cos φ sin θ)).
     let (th, ph) = (PI * 5.5 / h as f64, 2.0 * PI * 10.5 / w as f64);
     let axis = Vec3::new(
-        (ph.sin() * th.sin()) as f32,
-        th.cos() as f32,
-        (-ph.cos() * th.sin()) as f32,
+        (portable::sin(ph) * portable::sin(th)) as f32,
+        portable::cos(th) as f32,
+        (-portable::cos(ph) * portable::sin(th)) as f32,
     );
     let frame = Frame::from_normal(axis);
     let dir = |omc: f64, phi: f64| {
         let ct = 1.0 - omc;
         let st = (1.0 - ct * ct).max(0.0).sqrt();
         frame.to_world(Vec3::new(
-            (st * phi.cos()) as f32,
-            (st * phi.sin()) as f32,
+            (st * portable::cos(phi)) as f32,
+            (st * portable::sin(phi)) as f32,
             ct as f32,
         ))
     };
@@ -221,7 +222,7 @@ fn environment_bright_cells_match_their_density() {
         let omc = (l.x * l.x + l.y * l.y) / (1.0 + l.z);
         assert!(omc <= span, "a sample outside the bright cells' cap");
         let it = ((omc / dt) as usize).min(NT - 1);
-        let ip = ((l.y.atan2(l.x).rem_euclid(2.0 * PI) / dp) as usize).min(NP - 1);
+        let ip = ((portable::atan2(l.y, l.x).rem_euclid(2.0 * PI) / dp) as usize).min(NP - 1);
         observed[it * NP + ip] += 1.0;
     }
     // Midpoint integration of a piecewise-constant density: its total is good to ~0.5%.
@@ -290,8 +291,8 @@ fn area_light_points_and_directions_match_their_density() {
         let ct = 1.0 - omc;
         let st = (1.0 - ct * ct).max(0.0).sqrt();
         let w = frame.to_world(Vec3::new(
-            (st * phi.cos()) as f32,
-            (st * phi.sin()) as f32,
+            (st * portable::cos(phi)) as f32,
+            (st * portable::sin(phi)) as f32,
             ct as f32,
         ));
         [w.x as f64, w.y as f64, w.z as f64]
@@ -300,7 +301,7 @@ fn area_light_points_and_directions_match_their_density() {
     // cone reaches ~52° from the normal). Integration grid: 16² points per quadrant and 12²
     // directions per bin; at 24² and 24² the five bins farthest from their expectation moved
     // by under 1%, well under their Poisson spread: the test is not limited by integration.
-    let span = 1.0 - (70.0f64).to_radians().cos();
+    let span = 1.0 - portable::cos((70.0f64).to_radians());
     const NT: usize = 16;
     const NP: usize = 32;
     const SUB: usize = 12;
@@ -372,7 +373,7 @@ fn area_light_points_and_directions_match_their_density() {
         let omc = (l.x * l.x + l.y * l.y) / (1.0 + l.z);
         assert!(omc <= span, "a direction outside every cone");
         let it = ((omc / dt) as usize).min(NT - 1);
-        let ip = ((l.y.atan2(l.x).rem_euclid(2.0 * PI) / dp) as usize).min(NP - 1);
+        let ip = ((portable::atan2(l.y, l.x).rem_euclid(2.0 * PI) / dp) as usize).min(NP - 1);
         observed[bin(quadrant(o.x, o.z), it, ip)] += 1.0;
     }
     assert!(

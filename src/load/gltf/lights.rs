@@ -22,6 +22,7 @@ use crate::config::{
     SpectrumConfig, TransformOp,
 };
 use crate::error::InputError;
+use crate::math::portable;
 use crate::motion::Motion;
 use crate::spectrum::color::cie1931;
 use crate::spectrum::Curve;
@@ -220,7 +221,7 @@ pub fn scene_for(model: &super::Model) -> Result<(SceneConfig, Vec<String>), Inp
             let centre = 0.5 * (lo + hi);
             let r = (0.5 * (hi - lo).length()).max(1e-6);
             let fov = 40.0f32;
-            let d = 1.05 * r / (0.5 * fov).to_radians().sin();
+            let d = 1.05 * r / portable::sin((0.5 * fov).to_radians());
             cfg.camera = CameraConfig {
                 fov,
                 fov_axis: FovAxis::Smaller,

@@ -3,6 +3,7 @@
 
 use super::{check_finite, Context, Role, SpectrumConfig};
 use crate::error::InputError;
+use crate::math::portable;
 use crate::spectrum::gamut::Gamut;
 use crate::spectrum::{data, table, Curve};
 use std::path::Path;
@@ -222,7 +223,7 @@ fn gaussian(centre: f32, fwhm: f32, range: (f32, f32)) -> Curve {
     let nm: Vec<f64> = (0..n).map(|i| lo + i as f64 * step).collect();
     let v: Vec<f64> = nm
         .iter()
-        .map(|&l| (-0.5 * ((l - centre as f64) / sigma).powi(2)).exp())
+        .map(|&l| portable::exp(-0.5 * ((l - centre as f64) / sigma).powi(2)))
         .collect();
     Curve::from_samples(&nm, &v)
 }

@@ -3,6 +3,7 @@
 //! grids and scalar maps built from them (the normal map among them).
 
 use super::GltfMaterials;
+use crate::math::portable;
 use crate::texture::{FloatTexture, Grid, TexFilter, UvMap, Wrap};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
@@ -88,7 +89,7 @@ impl Xform {
             Some(t) => UvMap {
                 scale: Vec2::from(t.scale),
                 offset: Vec2::from(t.offset),
-                rotation: Vec2::new(t.rotation.cos(), t.rotation.sin()),
+                rotation: Vec2::new(portable::cos(t.rotation), portable::sin(t.rotation)),
             },
         }
     }
