@@ -33,19 +33,29 @@ pub struct RoughPlastic<'a, const N: usize> {
     pub transmittance: &'a TransmittanceTable,
 }
 
-/// Mean of `g(wi, m)` over the visible normals m of direction cos θ = `mu`, on a stratified
-/// 64×64 grid (error < 1e-4, below the 64-entry table's own interpolation error).
+/// The 32-point Gauss–Legendre rule mapped to [0, 1]: nodes and weights (which sum to 1).
+static GL32: std::sync::LazyLock<([f32; 32], [f64; 32])> = std::sync::LazyLock::new(|| {
+    let (x, w) = crate::math::quadrature::gauss_legendre(32);
+    (
+        std::array::from_fn(|i| (0.5 * x[i] + 0.5) as f32),
+        std::array::from_fn(|i| 0.5 * w[i]),
+    )
+});
+
+/// Mean of `g(wi, m)` over the visible normals m of direction cos θ = `mu`: a 32 × 32
+/// Gauss–Legendre rule over the visible-normal sampler's unit square, as Mitsuba's
+/// roughplastic integrates it for η > 1.
 fn visible_normal_mean(mf: &Microfacet, mu: f32, g: impl Fn(Vec3, Vec3) -> f32) -> f32 {
     let wi = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
-    let k = 64;
+    let (x, w) = &*GL32;
     let mut sum = 0.0f64;
-    for a in 0..k {
-        for b in 0..k {
-            let u = Vec2::new((a as f32 + 0.5) / k as f32, (b as f32 + 0.5) / k as f32);
-            sum += g(wi, mf.sample_visible(wi, u)) as f64;
+    for a in 0..32 {
+        for b in 0..32 {
+            let u = Vec2::new(x[a], x[b]);
+            sum += g(wi, mf.sample_visible(wi, u)) as f64 * (w[a] * w[b]);
         }
     }
-    (sum / (k * k) as f64) as f32
+    sum as f32
 }
 
 /// Directional transmittance of the rough coating (relative index `eta`) for incidence
@@ -53,6 +63,11 @@ fn visible_normal_mean(mf: &Microfacet, mu: f32, g: impl Fn(Vec3, Vec3) -> f32) 
 /// E over visible normals m of (1 − F(wi·m)) G1(wt, m), wt the direction refracted about m.
 /// Light the coating neither reflects nor transmits (masked after scattering) is lost, as in
 /// Mitsuba's roughplastic, which tabulates the same rough-dielectric transmittance.
+///
+/// The integrand is smooth over the sampler's square (no total internal reflection from
+/// outside), so a 32 × 32 Gauss–Legendre rule, Mitsuba's for η > 1, takes it to 2.4e-5 of a
+/// 512 × 512 grid, where the 64 × 64 midpoint grid of before erred by up to 8.3e-4 at 4 times
+/// the cost (`transmittance_quadrature_matches_a_fine_grid`).
 pub fn transmittance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
     visible_normal_mean(mf, mu, |wi, m| {
         let cos_im = wi.dot(m);
@@ -108,8 +123,8 @@ fn fresh_transmittance_table(mf: &Microfacet, eta: f32) -> Box<TransmittanceTabl
 
 /// The coating's tables, built once per process for each (distribution, α, η).
 ///
-/// Both cost 64³ visible-normal samples each, about 0.1 s of one core together, and depend on
-/// nothing else. A dataset run or a Python session rebuilds its scenes frame after frame while
+/// Both cost 64 × 32² visible-normal samples each (a quarter of the 64³ they took on midpoint
+/// grids), and depend on nothing else. A dataset run or a Python session rebuilds its scenes frame after frame while
 /// a variation of colours or lights leaves the coating as it was, so what was built is kept.
 /// The tables are a deterministic function of the key: a kept table has the bits a fresh one
 /// would, and renders do not change.
@@ -216,6 +231,13 @@ mod built_once {
 /// Directional reflectance of the coating's microfacets for incidence cos θ = `mu` (from the
 /// side where the relative index is `eta`): E over visible normals of F(wi·m) G1(wr, m), wr
 /// the mirrored direction.
+///
+/// Seen from inside (η < 1) the integrand jumps where total internal reflection sets in, so no
+/// rule is exact per entry (32 × 32 Gauss–Legendre and the 64 × 64 midpoint grid of before are
+/// both up to 7e-3 off a 512 × 512 grid at Beckmann α 1), but the internal reflectance, the
+/// mean over the table's 64 entries that is all the model uses, comes to 2.2e-4 of a 256 × 256
+/// grid's with the Gauss–Legendre rule against the midpoint grid's 2.1e-3, at a quarter of
+/// the cost (`internal_reflectance_matches_a_fine_grid`).
 pub fn reflectance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
     visible_normal_mean(mf, mu, |wi, m| {
         let wr = 2.0 * wi.dot(m) * m - wi;
@@ -356,3 +378,7 @@ impl BsdfParams for RoughPlasticParams {
         "roughplastic"
     }
 }
+
+#[cfg(test)]
+#[path = "roughplastic_tests.rs"]
+mod quadrature_tests;

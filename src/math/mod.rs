@@ -5,6 +5,7 @@ pub mod distribution;
 pub mod float;
 pub mod frame;
 pub mod portable;
+pub mod quadrature;
 pub mod rng;
 pub mod sampling;
 pub mod transform;
