@@ -58,7 +58,7 @@ pub struct RenderArgs {
     /// `--features embree`.
     #[arg(long, value_enum)]
     pub accel: Option<crate::accel::AccelKind>,
-    /// Paths per packet: 1, 4, 8, 16, `auto` (the widest this CPU runs) or `off` (the scalar
+    /// Paths per packet: 1, 4, 8, 16, `auto` (8 with AVX2, else 4) or `off` (the scalar
     /// integrator). Every width gives the same bits; scenes the packet kernel does not take
     /// (adaptive sampling, caustics, dispersion) use the scalar integrator whatever this says.
     #[arg(long, value_enum, default_value = "auto")]

@@ -98,7 +98,7 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     if let Err(why) = args.simd.check() {
         return Err(crate::error::InputError::new(&args.scene, why)
             .field("--simd")
-            .hint("--simd auto picks the widest this CPU runs")
+            .hint("--simd auto picks a width this CPU runs")
             .into());
     }
     if !args.exposure.is_finite() {

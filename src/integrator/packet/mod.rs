@@ -33,7 +33,8 @@ use super::{RenderSettings, TileOut};
 /// `--simd`: the packet width, or the scalar integrator.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Simd {
-    /// The widest the CPU runs: 16 (AVX-512F), 8 (AVX2), else 4.
+    /// The fastest width the CPU runs: 8 with AVX2 (AVX-512 CPUs too, where 16 lanes measured
+    /// slower), else 4.
     #[default]
     #[value(name = "auto")]
     Auto,
@@ -52,10 +53,10 @@ pub enum Simd {
 }
 
 impl Simd {
-    /// The lanes this setting asks for (None: `off`); `auto` resolves to the CPU's widest.
+    /// The lanes this setting asks for (None: `off`); `auto` resolves to [`auto_width`].
     pub fn lanes(self) -> Option<usize> {
         match self {
-            Simd::Auto => Some(widest()),
+            Simd::Auto => Some(auto_width()),
             Simd::W1 => Some(1),
             Simd::W4 => Some(4),
             Simd::W8 => Some(8),
@@ -70,7 +71,7 @@ impl Simd {
             Some(w) if !runs(w) => Err(format!(
                 "--simd {w} needs {}, which this CPU lacks; use --simd auto (here: {}) or --simd {}",
                 needs(w),
-                widest(),
+                auto_width(),
                 widest()
             )),
             _ => Ok(()),
@@ -102,6 +103,13 @@ pub fn runs(w: usize) -> bool {
 /// The widest packet this CPU runs.
 pub fn widest() -> usize {
     [16, 8, 4].into_iter().find(|&w| runs(w)).unwrap_or(1)
+}
+
+/// The width `auto` takes: 8 where AVX2 runs, else 4. Not 16 on AVX-512 CPUs: there the
+/// 16-lane kernel rendered the Cornell box 12% slower than the 8-lane one (2.49 s against
+/// 2.24 s, 256², 64 spp, 2 threads, 3 rounds; docs/performance.md), the bits being the same.
+pub fn auto_width() -> usize {
+    [8, 4].into_iter().find(|&w| runs(w)).unwrap_or(1)
 }
 
 /// The fallback rule: why `scene` under `settings` renders with the scalar integrator instead
