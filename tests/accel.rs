@@ -51,7 +51,7 @@ fn random_shapes(rng: &mut Pcg32, n_tris: usize) -> Vec<Shape> {
     }
     for _ in 0..10 {
         let m = Mat4::from_translation(v3(rng, 10.0))
-            * Mat4::from_axis_angle(v3(rng, 1.0).normalize(), rng.next_f32() * 6.0)
+            * prism::math::rotation::axis_angle(v3(rng, 1.0).normalize(), rng.next_f32() * 6.0)
             * Mat4::from_scale(Vec3::new(0.5 + rng.next_f32(), 0.5 + rng.next_f32(), 1.0));
         shapes.push(Shape::Disk(Disk {
             to_world: Transform::from_matrix(m).unwrap(),

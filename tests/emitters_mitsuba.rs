@@ -80,10 +80,10 @@ fn envmap_orientation_and_interpolation_match_mitsuba() {
         pixels: vec![[1.0; 3]; 16 * 8],
         source: None,
     };
-    let rot = Mat3::from_axis_angle(
+    let rot = Mat3::from_mat4(prism::math::rotation::axis_angle(
         Vec3::new(axis[0] as f32, axis[1] as f32, axis[2] as f32).normalize(),
         (angle as f32).to_radians(),
-    );
+    ));
     for (key, to_world, m) in [
         ("identity", String::new(), Mat3::IDENTITY),
         (

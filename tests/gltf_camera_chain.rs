@@ -21,7 +21,7 @@ fn flip() -> Mat4 {
 /// The camera's turn at t: slerp from the identity to the half-turn about y of `TURN`, which
 /// turns at a constant rate, π·t about y.
 fn turn(t: f32) -> Mat4 {
-    Mat4::from_rotation_y(PI * t.clamp(0.0, 1.0))
+    prism::math::rotation::axis_angle(Vec3::Y, PI * t.clamp(0.0, 1.0))
 }
 
 /// The cubic translation's keys (glTF CUBICSPLINE: in-tangent, value, out-tangent per key).

@@ -46,7 +46,7 @@ fn under_rig() -> String {
 /// (0, 0, 5) + t · (1, 0.5, 0), a turn of t · 180° about y (slerp), and glTF's camera
 /// half-turn about y to prism's frame.
 fn pose(t: f32) -> Mat4 {
-    let q = Quat::IDENTITY.slerp(Quat::from_xyzw(0.0, 1.0, 0.0, 0.0), t);
+    let q = prism::math::rotation::slerp(Quat::IDENTITY, Quat::from_xyzw(0.0, 1.0, 0.0, 0.0), t);
     Mat4::from_translation(Vec3::new(t, 0.5 * t, 5.0))
         * Mat4::from_quat(q)
         * Mat4::from_diagonal(glam::Vec4::new(-1.0, 1.0, -1.0, 1.0))

@@ -212,11 +212,11 @@ fn instanced_normal_maps_follow_their_node() {
     let m = Vec3::new(m.x, m.y, (1.0 - m.length_squared()).sqrt());
     let dir = workdir("quad");
     normal_png(&dir.join("normal.png"), 1, 1, |_, _| m);
-    let rot30 = Quat::from_rotation_z(30f32.to_radians());
+    let rot30 = prism::math::rotation::quat(Vec3::Z, 30f32.to_radians());
     let nodes = json!([
         {"name": "moved", "mesh": 0, "translation": [-3.0, 0.0, 0.0]},
         {"name": "mirrored", "mesh": 0, "scale": [-1.0, 1.0, 1.0], "translation": [3.0, 0.0, 0.0]},
-        {"name": "turned", "mesh": 0, "rotation": Quat::from_rotation_z(90f32.to_radians()).to_array(), "translation": [0.0, 3.0, 0.0]},
+        {"name": "turned", "mesh": 0, "rotation": prism::math::rotation::quat(Vec3::Z, 90f32.to_radians()).to_array(), "translation": [0.0, 3.0, 0.0]},
         {"name": "skewer", "scale": [2.0, 0.5, 1.0], "children": [4]},
         {"name": "skewed", "mesh": 0, "rotation": rot30.to_array(), "translation": [0.0, -8.0, 0.0]}
     ]);
@@ -345,9 +345,9 @@ fn normal_mapped_gltf_mesh_renders_as_its_flattened_twin() {
     let axis = Vec3::new(1.0, 1.0, 0.0).normalize();
     let nodes = json!([
         {"name": "plain", "mesh": 0, "translation": [-2.0, 0.0, 1.2]},
-        trs([2.0, 0.0, 1.2], Quat::from_rotation_z(20f32.to_radians()), [-0.9, 0.9, 0.9]),
-        trs([-2.0, 0.2, -1.8], Quat::from_axis_angle(axis, 50f32.to_radians()), [1.3, 0.6, 0.9]),
-        {"name": "parent", "rotation": Quat::from_rotation_y(45f32.to_radians()).to_array(), "translation": [2.0, 0.0, -1.8], "children": [4]},
+        trs([2.0, 0.0, 1.2], prism::math::rotation::quat(Vec3::Z, 20f32.to_radians()), [-0.9, 0.9, 0.9]),
+        trs([-2.0, 0.2, -1.8], prism::math::rotation::quat(axis, 50f32.to_radians()), [1.3, 0.6, 0.9]),
+        {"name": "parent", "rotation": prism::math::rotation::quat(Vec3::Y, 45f32.to_radians()).to_array(), "translation": [2.0, 0.0, -1.8], "children": [4]},
         {"name": "child", "mesh": 0, "scale": [0.8, 0.8, 0.8]},
         {"name": "floor", "mesh": 1}
     ]);

@@ -279,18 +279,18 @@ fn a_chained_motion_is_the_product_and_its_bounds_hold() {
         lin(vec![0.0, 1.0], vec![Vec3::ZERO, Vec3::new(3.0, 1.0, 0.0)]),
         lin(
             vec![0.0, 1.0],
-            vec![Quat::IDENTITY, Quat::from_rotation_y(2.5)],
+            vec![Quat::IDENTITY, prism::math::rotation::quat(Vec3::Y, 2.5)],
         ),
         Track::constant(Vec3::ONE),
     );
     let child = Motion::trs(
         lin(vec![0.2, 0.7], vec![Vec3::ZERO, Vec3::new(4.0, 0.0, 0.0)]),
-        Track::constant(Quat::from_rotation_z(0.3)),
+        Track::constant(prism::math::rotation::quat(Vec3::Z, 0.3)),
         lin(vec![0.0, 1.0], vec![Vec3::ONE, Vec3::new(0.5, 2.0, 1.0)]),
     );
     let offset = Mat4::from_scale_rotation_translation(
         Vec3::new(1.0, 2.0, 0.5),
-        Quat::from_rotation_x(0.4),
+        prism::math::rotation::quat(Vec3::X, 0.4),
         Vec3::new(0.0, 0.0, 1.0),
     );
     let chain = child.clone().under(parent.clone(), offset);

@@ -449,7 +449,10 @@ fn sky_image() -> RgbImage {
 #[test]
 fn envmap_sampling() {
     let img = sky_image();
-    let rotation = glam::Mat3::from_axis_angle(Vec3::new(0.3, 1.0, -0.6).normalize(), 2.0);
+    let rotation = glam::Mat3::from_mat4(prism::math::rotation::axis_angle(
+        Vec3::new(0.3, 1.0, -0.6).normalize(),
+        2.0,
+    ));
     for (name, m) in [
         ("envmap", glam::Mat3::IDENTITY),
         ("envmap rotated", rotation),

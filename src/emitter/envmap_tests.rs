@@ -117,7 +117,10 @@ fn pdf_is_proportional_to_luminance() {
 #[test]
 fn pdf_integrates_to_one_and_matches_sampling() {
     let img = image(12, 7, |i, j| [(i * j) as f32 * 0.1 + 0.01, 0.2, 0.0]);
-    let rot = Mat3::from_axis_angle(Vec3::new(1.0, 1.0, 0.0).normalize(), 0.7);
+    let rot = Mat3::from_mat4(crate::math::rotation::axis_angle(
+        Vec3::new(1.0, 1.0, 0.0).normalize(),
+        0.7,
+    ));
     let m = EnvMap::new(&img, 1.0, rot);
     // ∫ pdf dω over the sphere by a fine midpoint rule in (cos θ, φ) of the world frame.
     let n = 600;
@@ -165,7 +168,11 @@ fn bright_cells_hold_the_sun_and_sample_it_by_energy() {
             [0.4, 0.5, 0.9]
         }
     });
-    let m = EnvMap::new(&img, 1.0, Mat3::from_rotation_y(0.7));
+    let m = EnvMap::new(
+        &img,
+        1.0,
+        Mat3::from_mat4(crate::math::rotation::axis_angle(Vec3::Y, 0.7)),
+    );
     // Corner cells touching one sun texel hold ~20× the mean, sky cells ~0.15×.
     let b = m.bright_cells(5.0).expect("the sun is bright");
     // A cell between columns i, i+1 and rows j, j+1 is bright iff a corner is sun.
@@ -250,7 +257,11 @@ fn inverse_pdf_mean(n: usize, sample: impl Fn(Vec2) -> Option<(Vec3, f32)>) -> (
 #[test]
 fn sampling_density_covers_the_sphere() {
     let img = image(12, 7, |i, j| [(i * j) as f32 * 0.1 + 0.01, 0.2, 0.0]);
-    let m = EnvMap::new(&img, 1.0, Mat3::from_rotation_x(0.4));
+    let m = EnvMap::new(
+        &img,
+        1.0,
+        Mat3::from_mat4(crate::math::rotation::axis_angle(Vec3::X, 0.4)),
+    );
     let (mean, se) = inverse_pdf_mean(400_000, |u| m.sample(u));
     let four_pi = 4.0 * std::f64::consts::PI;
     assert!(

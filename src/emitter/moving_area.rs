@@ -99,7 +99,6 @@ mod tests {
     use crate::math::Transform;
     use crate::motion::{Interp, Track};
     use crate::shape::{Disk, Sphere};
-    use glam::Quat;
 
     fn track<T: Clone>(values: Vec<T>) -> Track<T> {
         Track {
@@ -115,8 +114,9 @@ mod tests {
         Motion {
             translation: track(vec![Vec3::new(-1.0, 0.0, 3.0), Vec3::new(1.0, 0.5, 3.0)]),
             rotation: track(vec![
-                Quat::from_rotation_x(3.0),
-                Quat::from_rotation_x(3.0) * Quat::from_rotation_y(0.8),
+                crate::math::rotation::quat(Vec3::X, 3.0),
+                crate::math::rotation::quat(Vec3::X, 3.0)
+                    * crate::math::rotation::quat(Vec3::Y, 0.8),
             ]),
             scale: track(vec![Vec3::new(0.5, 0.3, 0.8), Vec3::new(0.2, 0.6, 0.4)]),
             parent: None,

@@ -60,7 +60,7 @@ pub fn transform(ops: &[TransformOp], file: &Path, field: &str) -> Result<Transf
                     &f,
                     "the rotation needs a non-zero finite axis and a finite angle",
                 )?;
-                Mat4::from_axis_angle(a.normalize(), angle.to_radians())
+                crate::math::rotation::axis_angle(a.normalize(), angle.to_radians())
             }
             TransformOp::LookAt { origin, target, up } => {
                 let t = Transform::look_at((*origin).into(), (*target).into(), (*up).into()).ok_or_else(|| {

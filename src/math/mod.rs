@@ -7,6 +7,7 @@ pub mod frame;
 pub mod portable;
 pub mod quadrature;
 pub mod rng;
+pub mod rotation;
 pub mod sampling;
 pub mod transform;
 

@@ -282,7 +282,8 @@ mod tests {
             (0.0, Mat4::from_translation(Vec3::new(0.0, 0.0, 0.0))),
             (
                 2.0,
-                Mat4::from_translation(Vec3::new(4.0, 0.0, 0.0)) * Mat4::from_rotation_z(1.0),
+                Mat4::from_translation(Vec3::new(4.0, 0.0, 0.0))
+                    * crate::math::rotation::axis_angle(Vec3::Z, 1.0),
             ),
         ]);
         let p = m.matrix(1.0).transform_point3(Vec3::X);
@@ -298,7 +299,8 @@ mod tests {
             (0.0, Mat4::IDENTITY),
             (
                 1.0,
-                Mat4::from_translation(Vec3::new(3.0, 1.0, 0.0)) * Mat4::from_rotation_y(2.5),
+                Mat4::from_translation(Vec3::new(3.0, 1.0, 0.0))
+                    * crate::math::rotation::axis_angle(Vec3::Y, 2.5),
             ),
         ]);
         let obj = (Vec3::splat(-1.0), Vec3::splat(1.0));

@@ -28,7 +28,7 @@ fn hits_inside_misses_outside() {
 /// its plane by rounding) must not re-hit it: their t would be pure rounding error.
 #[test]
 fn no_self_hits_leaving_a_rotated_triangle() {
-    let rot = glam::Quat::from_axis_angle(Vec3::new(1.0, 0.3, -0.2).normalize(), 1.3);
+    let rot = crate::math::rotation::quat(Vec3::new(1.0, 0.3, -0.2).normalize(), 1.3);
     let tri = [
         rot * Vec3::new(-4.0, -4.0, 0.0),
         rot * Vec3::new(4.0, -4.0, 0.0),

@@ -7,8 +7,8 @@ use crate::config::{KeyConfig, SceneConfig, TransformOp};
 use crate::dataset::base::Base;
 use crate::dataset::vary::Rng;
 use crate::error::InputError;
-use crate::math::portable;
-use glam::{Mat4, Vec3};
+use crate::math::{portable, rotation};
+use glam::Vec3;
 use serde_json::{json, Value};
 
 /// The camera's keys at `times` along trajectory `tr`, from the frame's drawn pose `ops`
@@ -59,8 +59,9 @@ pub(super) fn camera_keys(
             let sign = if r.unit() < 0.5 { -1.0 } else { 1.0 };
             let w = sign * r.range(*speed);
             let rel = o - tg;
-            let at =
-                |t: f32| tg + Mat4::from_rotation_y((w * t).to_radians()).transform_vector3(rel);
+            let at = |t: f32| {
+                tg + rotation::axis_angle(Vec3::Y, (w * t).to_radians()).transform_vector3(rel)
+            };
             (
                 times.iter().map(|&t| at(t)).collect(),
                 json!({"trajectory": "orbit", "degrees_per_second": w}),
