@@ -130,8 +130,8 @@ fn every_scene_has_the_same_bits_when_the_c_library_runs_its_code_for_cpus_witho
         eprintln!("skipping: this CPU has no FMA, so the C library already runs its plain code");
         return;
     }
-    let dir = tempfile_dir();
-    let out = dir.join("digests.json");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("digests.json");
     let status = std::process::Command::new(std::env::current_exe().unwrap())
         .args([
             "every_scene_has_the_same_bits_when_the_c_library_runs_its_code_for_cpus_without_fma",
@@ -148,7 +148,6 @@ fn every_scene_has_the_same_bits_when_the_c_library_runs_its_code_for_cpus_witho
     assert!(status.success(), "the child render failed: {status}");
     let mut theirs: BTreeMap<String, String> =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-    std::fs::remove_dir_all(&dir).ok();
     let probe = theirs.remove("probe").unwrap();
     if probe == c_library_exp(PROBE).to_string() {
         // A C library that ignores the tunable (or runs one variant only) cannot play the
@@ -173,11 +172,4 @@ fn every_scene_has_the_same_bits_when_the_c_library_runs_its_code_for_cpus_witho
         differ.len(),
         ours.len()
     );
-}
-
-/// A fresh folder under the system's temporary directory, unique to this process.
-fn tempfile_dir() -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("prism-portable-bits-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }

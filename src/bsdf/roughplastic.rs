@@ -69,16 +69,19 @@ fn visible_normal_mean(mf: &Microfacet, mu: f32, g: impl Fn(Vec3, Vec3) -> f32) 
 /// 512 × 512 grid, where the 64 × 64 midpoint grid of before erred by up to 8.3e-4 at 4 times
 /// the cost (`transmittance_quadrature_matches_a_fine_grid`).
 pub fn transmittance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
-    visible_normal_mean(mf, mu, |wi, m| {
-        let cos_im = wi.dot(m);
-        let (f, cos_t, _, eta_ti) = fresnel::dielectric(cos_im, eta);
-        if f >= 1.0 {
-            return 0.0;
-        }
-        // Refraction about m: cos_t is signed opposite to wi·m.
-        let wt = -eta_ti * wi + (eta_ti * cos_im + cos_t) * m;
-        (1.0 - f) * mf.g1(wt, m)
-    })
+    visible_normal_mean(mf, mu, |wi, m| transmitted(mf, eta, wi, m))
+}
+
+/// The transmittance's integrand at microfacet normal `m`: (1 − F(wi·m)) G1(wt, m).
+fn transmitted(mf: &Microfacet, eta: f32, wi: Vec3, m: Vec3) -> f32 {
+    let cos_im = wi.dot(m);
+    let (f, cos_t, _, eta_ti) = fresnel::dielectric(cos_im, eta);
+    if f >= 1.0 {
+        return 0.0;
+    }
+    // Refraction about m: cos_t is signed opposite to wi·m.
+    let wt = -eta_ti * wi + (eta_ti * cos_im + cos_t) * m;
+    (1.0 - f) * mf.g1(wt, m)
 }
 
 /// The transmittance table of a coating with relative index `eta` (built once per process:
@@ -124,8 +127,9 @@ fn fresh_transmittance_table(mf: &Microfacet, eta: f32) -> Box<TransmittanceTabl
 /// The coating's tables, built once per process for each (distribution, α, η).
 ///
 /// Both cost 64 × 32² visible-normal samples each (a quarter of the 64³ they took on midpoint
-/// grids), and depend on nothing else. A dataset run or a Python session rebuilds its scenes frame after frame while
-/// a variation of colours or lights leaves the coating as it was, so what was built is kept.
+/// grids), and depend on nothing else. A dataset run or a Python session rebuilds its scenes
+/// frame after frame while a variation of colours or lights leaves the coating as it was, so
+/// what was built is kept.
 /// The tables are a deterministic function of the key: a kept table has the bits a fresh one
 /// would, and renders do not change.
 mod built_once {
@@ -239,14 +243,18 @@ mod built_once {
 /// grid's with the Gauss–Legendre rule against the midpoint grid's 2.1e-3, at a quarter of
 /// the cost (`internal_reflectance_matches_a_fine_grid`).
 pub fn reflectance_at(mf: &Microfacet, eta: f32, mu: f32) -> f32 {
-    visible_normal_mean(mf, mu, |wi, m| {
-        let wr = 2.0 * wi.dot(m) * m - wi;
-        if wr.z > 0.0 {
-            fresnel::dielectric(wi.dot(m), eta).0 * mf.g1(wr, m)
-        } else {
-            0.0
-        }
-    })
+    visible_normal_mean(mf, mu, |wi, m| reflected(mf, eta, wi, m))
+}
+
+/// The reflectance's integrand at microfacet normal `m`: F(wi·m) G1(wr, m) where the mirrored
+/// direction wr is above the surface, else 0.
+fn reflected(mf: &Microfacet, eta: f32, wi: Vec3, m: Vec3) -> f32 {
+    let wr = 2.0 * wi.dot(m) * m - wi;
+    if wr.z > 0.0 {
+        fresnel::dielectric(wi.dot(m), eta).0 * mf.g1(wr, m)
+    } else {
+        0.0
+    }
 }
 
 /// The coating's internal reflectance: the cosine-weighted average over incidence of the

@@ -1,6 +1,7 @@
 //! The coating's quadrature against fine midpoint grids of the same integrands.
 
-use super::{fresh_internal_reflectance, fresnel, table_mu, transmittance_at, TABLE_SIZE};
+use super::TABLE_SIZE;
+use super::{fresh_internal_reflectance, reflected, table_mu, transmittance_at, transmitted};
 use crate::bsdf::microfacet::{Distribution, Microfacet};
 use glam::{Vec2, Vec3};
 
@@ -29,15 +30,7 @@ fn transmittance_quadrature_matches_a_fine_grid() {
             for eta in [1.33f32, 2.2] {
                 let mf = Microfacet::new(kind, alpha, alpha);
                 for mu in [1e-6f32, 0.2, 0.8, 1.0] {
-                    let fine = midpoint_mean(&mf, mu, 512, |wi, m| {
-                        let cos_im = wi.dot(m);
-                        let (f, cos_t, _, eta_ti) = fresnel::dielectric(cos_im, eta);
-                        if f >= 1.0 {
-                            return 0.0;
-                        }
-                        let wt = -eta_ti * wi + (eta_ti * cos_im + cos_t) * m;
-                        (1.0 - f) * mf.g1(wt, m)
-                    });
+                    let fine = midpoint_mean(&mf, mu, 512, |wi, m| transmitted(&mf, eta, wi, m));
                     let got = transmittance_at(&mf, eta, mu);
                     assert!(
                         (got - fine).abs() < 5e-5,
@@ -66,14 +59,7 @@ fn internal_reflectance_matches_a_fine_grid() {
         let fine: f64 = (0..TABLE_SIZE)
             .map(|i| {
                 let mu = table_mu(i);
-                let r = midpoint_mean(&mf, mu, 256, |wi, m| {
-                    let wr = 2.0 * wi.dot(m) * m - wi;
-                    if wr.z > 0.0 {
-                        fresnel::dielectric(wi.dot(m), 1.0 / eta).0 * mf.g1(wr, m)
-                    } else {
-                        0.0
-                    }
-                });
+                let r = midpoint_mean(&mf, mu, 256, |wi, m| reflected(&mf, 1.0 / eta, wi, m));
                 (r * mu) as f64
             })
             .sum::<f64>()

@@ -33,98 +33,35 @@ pub trait Portable: Copy {
     fn atanh(self) -> Self;
 }
 
+/// `impl Portable for $t`, each method calling the `libm` function named beside it.
 macro_rules! portable {
-    ($t:ty, $sin:ident, $cos:ident, $tan:ident, $sincos:ident, $asin:ident, $acos:ident,
-     $atan:ident, $atan2:ident, $exp:ident, $exp2:ident, $expm1:ident, $log:ident,
-     $log2:ident, $pow:ident, $hypot:ident, $cbrt:ident, $cosh:ident, $tanh:ident, $atanh:ident) => {
+    ($t:ty, $sincos:ident; $($name:ident($($arg:ident),*) => $libm:ident),* $(,)?) => {
         impl Portable for $t {
-            #[inline]
-            fn sin(self) -> Self {
-                libm::$sin(self)
-            }
-            #[inline]
-            fn cos(self) -> Self {
-                libm::$cos(self)
-            }
-            #[inline]
-            fn tan(self) -> Self {
-                libm::$tan(self)
-            }
             #[inline]
             fn sin_cos(self) -> (Self, Self) {
                 libm::$sincos(self)
             }
-            #[inline]
-            fn asin(self) -> Self {
-                libm::$asin(self)
-            }
-            #[inline]
-            fn acos(self) -> Self {
-                libm::$acos(self)
-            }
-            #[inline]
-            fn atan(self) -> Self {
-                libm::$atan(self)
-            }
-            #[inline]
-            fn atan2(self, x: Self) -> Self {
-                libm::$atan2(self, x)
-            }
-            #[inline]
-            fn exp(self) -> Self {
-                libm::$exp(self)
-            }
-            #[inline]
-            fn exp2(self) -> Self {
-                libm::$exp2(self)
-            }
-            #[inline]
-            fn exp_m1(self) -> Self {
-                libm::$expm1(self)
-            }
-            #[inline]
-            fn ln(self) -> Self {
-                libm::$log(self)
-            }
-            #[inline]
-            fn log2(self) -> Self {
-                libm::$log2(self)
-            }
-            #[inline]
-            fn powf(self, e: Self) -> Self {
-                libm::$pow(self, e)
-            }
-            #[inline]
-            fn hypot(self, y: Self) -> Self {
-                libm::$hypot(self, y)
-            }
-            #[inline]
-            fn cbrt(self) -> Self {
-                libm::$cbrt(self)
-            }
-            #[inline]
-            fn cosh(self) -> Self {
-                libm::$cosh(self)
-            }
-            #[inline]
-            fn tanh(self) -> Self {
-                libm::$tanh(self)
-            }
-            #[inline]
-            fn atanh(self) -> Self {
-                libm::$atanh(self)
-            }
+            $(
+                #[inline]
+                fn $name(self $(, $arg: Self)*) -> Self {
+                    libm::$libm(self $(, $arg)*)
+                }
+            )*
         }
     };
 }
 
-portable!(
-    f32, sinf, cosf, tanf, sincosf, asinf, acosf, atanf, atan2f, expf, exp2f, expm1f, logf, log2f,
-    powf, hypotf, cbrtf, coshf, tanhf, atanhf
+portable!(f32, sincosf;
+    sin() => sinf, cos() => cosf, tan() => tanf, asin() => asinf, acos() => acosf,
+    atan() => atanf, atan2(x) => atan2f, exp() => expf, exp2() => exp2f, exp_m1() => expm1f,
+    ln() => logf, log2() => log2f, powf(e) => powf, hypot(y) => hypotf, cbrt() => cbrtf,
+    cosh() => coshf, tanh() => tanhf, atanh() => atanhf,
 );
-portable!(
-    f64, sin, cos, tan, sincos, asin, acos, atan, atan2, exp, exp2, expm1, log, log2, pow, hypot,
-    cbrt, cosh, tanh, atanh
+portable!(f64, sincos;
+    sin() => sin, cos() => cos, tan() => tan, asin() => asin, acos() => acos, atan() => atan,
+    atan2(x) => atan2, exp() => exp, exp2() => exp2, exp_m1() => expm1, ln() => log,
+    log2() => log2, powf(e) => pow, hypot(y) => hypot, cbrt() => cbrt, cosh() => cosh,
+    tanh() => tanh, atanh() => atanh,
 );
 
 macro_rules! free {

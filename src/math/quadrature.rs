@@ -12,18 +12,15 @@ pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
     for i in 0..n.div_ceil(2) {
         // The i-th root from the top, from Tricomi's first-order estimate.
         let mut x = portable::cos(std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5));
-        let mut dp = 0.0;
         for _ in 0..100 {
             let (p, d) = legendre(n, x);
-            dp = d;
             let dx = p / d;
             x -= dx;
             if dx.abs() <= 1e-15 {
                 break;
             }
         }
-        let (_, d) = legendre(n, x);
-        dp = if d != 0.0 { d } else { dp };
+        let (_, dp) = legendre(n, x);
         let w = 2.0 / ((1.0 - x * x) * dp * dp);
         nodes[i] = -x;
         nodes[n - 1 - i] = x;

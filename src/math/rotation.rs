@@ -35,11 +35,8 @@ pub fn quat(axis: Vec3, angle: f32) -> Quat {
 /// (or −b) at t = 1, at constant angular speed. Nearly equal ends are interpolated linearly
 /// and normalised, where sin θ would divide by almost zero.
 pub fn slerp(a: Quat, b: Quat, t: f32) -> Quat {
-    let (b, dot) = if a.dot(b) < 0.0 {
-        (-b, -a.dot(b))
-    } else {
-        (b, a.dot(b))
-    };
+    let d = a.dot(b);
+    let (b, dot) = if d < 0.0 { (-b, -d) } else { (b, d) };
     if dot > 1.0 - f32::EPSILON {
         return (a * (1.0 - t) + b * t).normalize();
     }
