@@ -173,7 +173,22 @@ impl EnvMap {
     /// Radiance arriving from world direction `d` (pointing away from the scene).
     #[inline]
     pub fn eval<const N: usize>(&self, d: Vec3, wl: &Wavelengths<N>) -> Spectrum<N> {
-        let uv = Self::uv((self.to_local * d).normalize());
+        self.eval_uv(Self::uv((self.to_local * d).normalize()), wl)
+    }
+
+    /// `eval` and `pdf` of one world direction, its local direction and (u, v) computed once
+    /// (an escaping ray's MIS needs both: the two calls took two `atan2`s and `acos`es). The
+    /// same bits as the two calls.
+    #[inline]
+    pub fn eval_and_pdf<const N: usize>(&self, d: Vec3, wl: &Wavelengths<N>) -> (Spectrum<N>, f32) {
+        let l = (self.to_local * d).normalize();
+        let uv = Self::uv(l);
+        (self.eval_uv(uv, wl), self.pdf_local(l, uv))
+    }
+
+    /// Radiance at map coordinates `uv`.
+    #[inline]
+    fn eval_uv<const N: usize>(&self, uv: Vec2, wl: &Wavelengths<N>) -> Spectrum<N> {
         let (w, h) = (self.width, self.height);
         // Column centres at (i + ½)/W; rows at j/(H − 1).
         let x = uv.x * w as f32 - 0.5;
@@ -237,20 +252,25 @@ impl EnvMap {
     #[inline]
     pub fn pdf(&self, d: Vec3) -> f32 {
         let l = (self.to_local * d).normalize();
+        self.pdf_local(l, Self::uv(l))
+    }
+
+    /// `pdf` of local direction `l` (unit), whose map coordinates are `uv`.
+    #[inline]
+    fn pdf_local(&self, l: Vec3, uv: Vec2) -> f32 {
         let sin_t = (l.x * l.x + l.z * l.z).sqrt();
         if sin_t <= 0.0 {
             return 0.0;
         }
-        let (v, x, j) = self.cell_coords(l);
+        let (v, x, j) = self.cell_coords(uv);
         self.marginal.pdf_continuous(v) * self.conditional[j].pdf_continuous(x)
             / (2.0 * PI * PI * sin_t)
     }
 
-    /// Where local direction `l` (unit) falls among the sampling cells: v, the position x in
-    /// [0, 1) along its row of cells (which starts at the first column's centre), and the row.
+    /// Where map coordinates `uv` fall among the sampling cells: v, the position x in [0, 1)
+    /// along its row of cells (which starts at the first column's centre), and the row.
     #[inline]
-    fn cell_coords(&self, l: Vec3) -> (f32, f32, usize) {
-        let uv = Self::uv(l);
+    fn cell_coords(&self, uv: Vec2) -> (f32, f32, usize) {
         let x = uv.x - 0.5 / self.width as f32;
         let x = x - x.floor();
         let rows = self.height - 1;
@@ -262,7 +282,7 @@ impl EnvMap {
     /// falls in.
     #[inline]
     pub fn cell(&self, d: Vec3) -> usize {
-        let (_, x, j) = self.cell_coords((self.to_local * d).normalize());
+        let (_, x, j) = self.cell_coords(Self::uv((self.to_local * d).normalize()));
         let i = ((x * self.width as f32) as usize).min(self.width - 1);
         j * self.width + i
     }

@@ -276,6 +276,21 @@ impl Emitter {
         self.le_env_at(d, 0.0, wl)
     }
 
+    /// `le_env_at` and `pdf_li_env_at` together: an environment map finds the direction's
+    /// place on the map once for both (the same bits as the two calls).
+    #[inline(always)]
+    pub fn le_and_pdf_env_at<const N: usize>(
+        &self,
+        d: Vec3,
+        time: f32,
+        wl: &Wavelengths<N>,
+    ) -> (Spectrum<N>, f32) {
+        match self {
+            Emitter::Envmap(m) => m.eval_and_pdf(d, wl),
+            _ => (self.le_env_at(d, time, wl), self.pdf_li_env_at(d, time)),
+        }
+    }
+
     /// `le_env` at `time` (the escaping ray's).
     #[inline]
     pub fn le_env_at<const N: usize>(

@@ -229,11 +229,11 @@ impl<const N: usize> Path<N> {
     #[inline(always)]
     pub(super) fn add_environment(&mut self, em: &Emitter, ray: &Ray, wl: &Wavelengths<N>) {
         let (d, time) = (ray.d, ray.time);
-        let le = em.le_env_at(d, time, wl);
-        let w = if self.prev_delta {
-            1.0
+        let (le, w) = if self.prev_delta {
+            (em.le_env_at(d, time, wl), 1.0)
         } else {
-            power_heuristic(self.prev_pdf, self.select_pdf * em.pdf_li_env_at(d, time))
+            let (le, pdf) = em.le_and_pdf_env_at(d, time, wl);
+            (le, power_heuristic(self.prev_pdf, self.select_pdf * pdf))
         };
         self.l += self.beta * le * (w * self.lane_w);
     }

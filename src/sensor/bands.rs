@@ -1,7 +1,7 @@
 //! Spectral bands: evenly spaced box bands (the fast path: one index per lane), and response
 //! channels, each a box [lo, hi) or a curve (a filter, a camera's colour channel).
 
-use crate::spectrum::Curve;
+use crate::spectrum::{Curve, Wavelengths};
 
 /// Evenly spaced spectral bands over [lo, hi).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,6 +55,20 @@ impl Response {
             }
             Shape::Curve(c) => c.eval_one(lambda),
             Shape::Photons(c) => c.eval_one(lambda) * lambda,
+        }
+    }
+
+    /// `eval` at every wavelength of a path: a curve's table is read for all lanes at once
+    /// (`Curve::eval`'s SIMD lookups), with the same bits as `eval` lane by lane.
+    #[inline]
+    pub fn eval_lanes<const N: usize>(&self, wl: &Wavelengths<N>) -> [f32; N] {
+        match &self.shape {
+            Shape::Box { .. } => std::array::from_fn(|j| self.eval(wl.lambda[j])),
+            Shape::Curve(c) => c.eval(wl).0,
+            Shape::Photons(c) => {
+                let v = c.eval(wl).0;
+                std::array::from_fn(|j| v[j] * wl.lambda[j])
+            }
         }
     }
 

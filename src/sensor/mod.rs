@@ -22,6 +22,7 @@ mod multi;
 pub mod names;
 pub mod observer;
 pub mod raw;
+mod response_grid;
 pub mod sampling;
 mod stderr;
 
@@ -87,6 +88,8 @@ pub struct Sensor {
     bands: Option<Bands>,
     inv_band_width: f32,
     responses: Vec<Response>,
+    /// `responses` side by side when they share one grid (response_grid.rs).
+    response_grid: Option<response_grid::ResponseGrid>,
     /// Slot of the first response channel.
     response_base: usize,
     pub layers: Layers,
@@ -119,6 +122,7 @@ impl Sensor {
             bands,
             inv_band_width: bands.map_or(0.0, |b| 1.0 / b.width()),
             response_base: XYZ_SLOTS + bands.map_or(0, |b| b.count as usize),
+            response_grid: response_grid::ResponseGrid::of(&responses),
             responses,
             layers,
             raw: None,
@@ -148,23 +152,29 @@ impl Sensor {
         w: &Spectrum<N>,
         wl: &Wavelengths<N>,
     ) {
+        // The observer read at all lanes at once (SIMD), then each slot summed in lane order
+        // (X, Y, Z in registers: one bounds check, no store between lanes).
+        let v: [f32; N] = std::array::from_fn(|j| l[j] * w[j]);
+        let [xs, ys, zs] = self.cmf.eval_lanes(&wl.lambda);
+        let (head, bands) = acc.split_at_mut(XYZ_SLOTS);
+        let mut sum = [head[0], head[1], head[2]];
         for j in 0..N {
-            let v = l[j] * w[j];
-            if v == 0.0 {
+            if v[j] == 0.0 {
                 continue;
             }
-            let lambda = wl.lambda[j];
-            let [x, y, z] = self.cmf.eval(lambda);
-            let s = v * self.inv_y_integral;
-            acc[0] += (x * s) as f64;
-            acc[1] += (y * s) as f64;
-            acc[2] += (z * s) as f64;
-            if let Some(b) = &self.bands {
+            let s = v[j] * self.inv_y_integral;
+            sum[0] += (xs[j] * s) as f64;
+            sum[1] += (ys[j] * s) as f64;
+            sum[2] += (zs[j] * s) as f64;
+        }
+        head.copy_from_slice(&sum);
+        if let Some(b) = &self.bands {
+            for (&v, &lambda) in v.iter().zip(&wl.lambda) {
                 // In range, truncation is the floor (`floor` itself is a libm call on baseline
                 // x86-64, 1% of a render).
                 let k = (lambda - b.lo) * self.inv_band_width;
-                if k >= 0.0 && k < b.count as f32 {
-                    acc[XYZ_SLOTS + k as u32 as usize] += (v * self.inv_band_width) as f64;
+                if v != 0.0 && k >= 0.0 && k < b.count as f32 {
+                    bands[k as u32 as usize] += (v * self.inv_band_width) as f64;
                 }
             }
         }
@@ -185,15 +195,34 @@ impl Sensor {
         wl: &Wavelengths<N>,
     ) {
         let acc = &mut acc[self.response_base..];
-        for j in 0..N {
-            let v = l[j] * w[j];
-            if v == 0.0 {
-                continue;
+        let v: [f32; N] = std::array::from_fn(|j| l[j] * w[j]);
+        if let Some(grid) = &self.response_grid {
+            let acc = &mut acc[..self.responses.len()];
+            for (&v, &lambda) in v.iter().zip(&wl.lambda) {
+                if v == 0.0 {
+                    continue;
+                }
+                let Some((a, b, t)) = grid.at(lambda) else {
+                    continue;
+                };
+                let slots = acc.iter_mut().zip(&self.responses);
+                for ((acc, r), (&a, &b)) in slots.zip(a.iter().zip(b)) {
+                    // `Dense::eval`'s interpolation, so the value `r.eval` gives.
+                    let e = a + t * (b - a);
+                    if e != 0.0 {
+                        *acc += (v * e * r.scale) as f64;
+                    }
+                }
             }
-            for (a, r) in acc.iter_mut().zip(&self.responses) {
-                let e = r.eval(wl.lambda[j]);
-                if e != 0.0 {
-                    *a += (v * e * r.scale) as f64;
+            return;
+        }
+        // Response by response, each read at all lanes at once; every slot still sums its
+        // lanes in lane order, so the bits are those of lane-by-lane lookups.
+        for (a, r) in acc.iter_mut().zip(&self.responses) {
+            let e = r.eval_lanes(wl);
+            for j in 0..N {
+                if v[j] != 0.0 && e[j] != 0.0 {
+                    *a += (v[j] * e[j] * r.scale) as f64;
                 }
             }
         }

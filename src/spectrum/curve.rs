@@ -81,6 +81,11 @@ impl Dense {
         out
     }
 
+    /// The table as (start, 1 / step, samples).
+    pub fn grid(&self) -> (f32, f32, &[f32]) {
+        (self.start, self.inv_step, &self.values)
+    }
+
     /// The first and last sample's wavelengths (nm).
     pub fn range(&self) -> (f32, f32) {
         let n = self.values.len() as f32 - 1.0;
