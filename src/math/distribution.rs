@@ -1,6 +1,10 @@
 //! Piecewise-constant 1D distributions: discrete choices by weight (triangles by area, emitters)
 //! and continuous tabulated functions (pixel filters, environment-map rows).
 
+/// Tables of at least this many cells get a guide table (`Distribution1D::guide`); below it a
+/// binary search takes at most four steps.
+const GUIDED: usize = 16;
+
 /// A distribution over `n` cells proportional to non-negative weights.
 #[derive(Clone, Debug)]
 pub struct Distribution1D {
@@ -8,6 +12,10 @@ pub struct Distribution1D {
     /// cdf[0] = 0, cdf[n] = 1.
     cdf: Vec<f32>,
     integral: f32,
+    /// Guide table (Chen's): `guide[k]` is where the cdf passes k / guide.len(), so `find`
+    /// starts a short walk there instead of a binary search (two of those were half of an
+    /// environment map's sampling). Empty for small or unsorted tables (binary search).
+    guide: Vec<u32>,
 }
 
 impl Distribution1D {
@@ -44,10 +52,21 @@ impl Distribution1D {
             vec![1.0; n]
         };
         let integral = if integral > 0.0 { integral } else { n as f32 };
+        // The walk equals the binary search only on a sorted cdf (rounding could in principle
+        // put the last normalised sum above the final 1).
+        let sorted = cdf.windows(2).all(|w| w[0] <= w[1]);
+        let guide = if n >= GUIDED && sorted {
+            (0..n)
+                .map(|k| cdf.partition_point(|&c| c <= k as f32 / n as f32) as u32)
+                .collect()
+        } else {
+            Vec::new()
+        };
         Self {
             func,
             cdf,
             integral,
+            guide,
         }
     }
 
@@ -73,8 +92,27 @@ impl Distribution1D {
     #[inline]
     fn find(&self, u: f32) -> usize {
         // Largest i with cdf[i] <= u, kept within [0, n-1]; skips zero-width cells.
-        let i = self.cdf.partition_point(|&c| c <= u);
+        let i = self.count_at_most(u);
         i.saturating_sub(1).min(self.func.len() - 1)
+    }
+
+    /// How many cdf entries are <= u: `partition_point`'s answer (exactly: the walk stops at
+    /// the one place where the sorted cdf crosses u, wherever it starts).
+    #[inline]
+    fn count_at_most(&self, u: f32) -> usize {
+        if self.guide.is_empty() || u.is_nan() {
+            return self.cdf.partition_point(|&c| c <= u);
+        }
+        let m = self.guide.len();
+        // Saturating: a negative u takes bucket 0, and the walk goes back to 0.
+        let mut i = self.guide[((u * m as f32) as usize).min(m - 1)] as usize;
+        while i < self.cdf.len() && self.cdf[i] <= u {
+            i += 1;
+        }
+        while i > 0 && self.cdf[i - 1] > u {
+            i -= 1;
+        }
+        i
     }
 
     /// Picks a cell; returns it, its probability, and `u` rescaled to [0,1) within the cell
@@ -127,6 +165,57 @@ mod tests {
         let (i, _, r) = d.sample_discrete(0.625);
         assert_eq!(i, 2);
         assert!((r - 0.5).abs() < 1e-6);
+    }
+
+    /// The guided walk gives `partition_point`'s index for every u: on tables with zero
+    /// cells, spikes (a sun), all-zero rows, many cells per bucket and one, at every cdf
+    /// value, the floats next to them, bucket edges, out of range and NaN.
+    #[test]
+    fn guided_find_is_the_binary_search() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut tables: Vec<Vec<f32>> = vec![vec![0.0; 40], vec![1.0; 16], vec![1.0; 1000]];
+        for n in [16, 17, 63, 128, 1000, 4097] {
+            tables.push((0..n).map(|_| rnd()).collect());
+            // Mostly zero, a few cells, and one spike holding nearly everything.
+            tables.push(
+                (0..n)
+                    .map(|k| if k % 7 == 3 { rnd() } else { 0.0 })
+                    .collect(),
+            );
+            let mut spike: Vec<f32> = (0..n).map(|_| rnd() * 1e-6).collect();
+            spike[n / 3] = 1e4;
+            tables.push(spike);
+        }
+        for w in &tables {
+            let d = Distribution1D::new(w);
+            assert!(!d.guide.is_empty(), "{} cells are guided", w.len());
+            let mut us: Vec<f32> = (0..5000).map(|_| rnd()).collect();
+            for &c in &d.cdf {
+                us.extend([c, c.next_up(), c.next_down()]);
+            }
+            let m = d.guide.len() as f32;
+            us.extend((0..=d.guide.len()).map(|k| k as f32 / m));
+            us.extend([
+                -1.0,
+                -0.0,
+                0.0,
+                1.0,
+                1.5,
+                f32::INFINITY,
+                -f32::INFINITY,
+                f32::NAN,
+            ]);
+            for u in us {
+                let want = d.cdf.partition_point(|&c| c <= u);
+                assert_eq!(d.count_at_most(u), want, "u {u}, {} cells", w.len());
+            }
+        }
     }
 
     #[test]
