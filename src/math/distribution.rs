@@ -103,6 +103,14 @@ impl Distribution1D {
         if self.guide.is_empty() || u.is_nan() {
             return self.cdf.partition_point(|&c| c <= u);
         }
+        self.walk(u)
+    }
+
+    /// `count_at_most` of a guided table. Out of line, so the small tables' search (an area
+    /// light of two triangles) stays inlined where it was (callgrind: +0.8% on the Cornell box
+    /// with the walk inline).
+    #[inline(never)]
+    fn walk(&self, u: f32) -> usize {
         let m = self.guide.len();
         // Saturating: a negative u takes bucket 0, and the walk goes back to 0.
         let mut i = self.guide[((u * m as f32) as usize).min(m - 1)] as usize;
