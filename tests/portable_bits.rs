@@ -82,11 +82,41 @@ fn sweeps() -> BTreeMap<String, String> {
     put("hypot f32", &mut |x| {
         p::hypot(x as f32, (0.7 * x + 1.0) as f32).to_bits() as u64
     });
+    put("ln_gamma f64", &mut |x| {
+        p::ln_gamma(x.abs() * 40.0 + 1e-3).to_bits()
+    });
     put("powf f64", &mut |x| p::powf(x.abs() + 0.01, 2.4).to_bits());
     put("powf f32", &mut |x| {
         p::powf(x.abs() as f32 + 0.01, 1.0 / 2.4).to_bits() as u64
     });
     out
+}
+
+/// A raw sensor's mosaic with noise (its Poisson and normal draws) over signals from 10⁻³ to
+/// 10⁹ electrons at one DN per electron, hashed.
+fn raw_mosaic() -> String {
+    use prism::sensor::raw::{BayerPattern, RawModel};
+    let model = RawModel {
+        pattern: BayerPattern::Rggb,
+        slot: 0,
+        dark_e: 0.5,
+        full_well: 4e9,
+        read_noise: 2.5,
+        gain: 1.0,
+        black: 64.0,
+        white: 4_294_967_295.0,
+        noise: true,
+    };
+    let (w, h) = (256u32, 64u32);
+    let means: Vec<f32> = (0..w * h * 3)
+        .map(|i| 10f32.powi(i as i32 % 13 - 3) * (1.0 + (i / 39) as f32 * 1e-3))
+        .collect();
+    let mosaic = model.mosaic(&means, 3, w, h, 2026);
+    let mut hash = Sha256::new();
+    for v in mosaic.data {
+        hash.update(v.to_le_bytes());
+    }
+    format!("{:x}", hash.finalize())
 }
 
 /// Each scene's channels (names and bits), hashed, on 2 threads with the default packets.
@@ -105,6 +135,7 @@ fn digests() -> BTreeMap<String, String> {
         }
         out.insert(scene.display().to_string(), format!("{:x}", h.finalize()));
     }
+    out.insert("raw mosaic".into(), raw_mosaic());
     out
 }
 

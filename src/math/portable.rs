@@ -98,3 +98,9 @@ pub fn hypot<T: Portable>(x: T, y: T) -> T {
 pub fn powf<T: Portable>(x: T, e: T) -> T {
     Portable::powf(x, e)
 }
+
+/// ln Γ(x) (f64): musl's `lgamma`, for the acceptance test of Poisson draws.
+#[inline]
+pub fn ln_gamma(x: f64) -> f64 {
+    libm::lgamma(x)
+}

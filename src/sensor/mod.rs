@@ -20,6 +20,7 @@ pub mod develop;
 pub mod export;
 mod multi;
 pub mod names;
+mod noise;
 pub mod observer;
 pub mod raw;
 mod response_grid;

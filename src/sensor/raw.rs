@@ -27,18 +27,18 @@
 //! tiling. It runs once on the finished film. The loader (`load::sensor::raw`) builds the model from
 //! the scene's `raw:` config; this module knows no config.
 
+use super::noise;
 use crate::film::UintChannel;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, Poisson, StandardNormal};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The EXR channel of the mosaic.
 pub const CHANNEL: &str = "raw.Y";
 
-/// Poisson means above this are saturated outright (far above any full well; rand_distr
-/// refuses means near 2^64).
+/// Poisson means above this are saturated outright (far above any full well, and where a
+/// count would lose integer precision in f64).
 const SATURATED: f64 = 1e15;
 
 /// The colour of the 2×2 Bayer tile's four sites, read left to right, top row first, from the
@@ -110,12 +110,11 @@ impl RawModel {
                 let e = if mean >= SATURATED {
                     self.full_well
                 } else if mean > 0.0 {
-                    let p = Poisson::new(mean).expect("a finite positive mean");
-                    p.sample(r).min(self.full_well)
+                    noise::poisson(mean, r).min(self.full_well)
                 } else {
                     0.0
                 };
-                let n: f64 = StandardNormal.sample(r);
+                let n = noise::standard_normal(r);
                 (e, self.read_noise * n)
             }
         };
