@@ -1,5 +1,6 @@
 //! CIE 1931 and 1964 colour matching and the XYZ ↔ linear sRGB conversion.
 
+use super::curve::cells4;
 use super::{data, table};
 use crate::math::portable;
 use glam::{Mat3, Vec3};
@@ -50,16 +51,7 @@ impl Cmf {
             let l = f32x4::from([lambda[c], lambda[c + 1], lambda[c + 2], lambda[c + 3]]);
             // NaN fails both comparisons, like the scalar range test.
             let inside = l.cmp_ge(start) & l.cmp_le(end);
-            let x = l - start;
-            // Clamped first, so every lane's index is valid (outside lanes are masked below).
-            let i = x
-                .max(zero)
-                .min(last)
-                .fast_trunc_int()
-                .max(i32x4::splat(0))
-                .min(max_i);
-            let t = x - i.round_float();
-            let k = i.to_array();
+            let (k, t) = cells4(l - start, last, max_i);
             // Written out: `k.map` kept its closure out of line (74·10⁶ instructions of a
             // tabletop frame at 8 spp).
             let k = k.map(|k| k as usize);

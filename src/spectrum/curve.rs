@@ -60,15 +60,7 @@ impl Dense {
             let x = (f32x4::from([l[0], l[1], l[2], l[3]]) - start) * inv_step;
             // NaN fails both comparisons, like the scalar range test.
             let inside = x.cmp_ge(zero) & x.cmp_le(lastv);
-            // Clamped first, so every lane's index is valid (outside lanes are masked below).
-            let i = x
-                .max(zero)
-                .min(lastv)
-                .fast_trunc_int()
-                .max(i32x4::splat(0))
-                .min(max_i);
-            let t = x - i.round_float();
-            let k = i.to_array();
+            let (k, t) = cells4(x, lastv, max_i);
             let a = f32x4::from(k.map(|k| self.values[k as usize]));
             let b = f32x4::from(k.map(|k| self.values[k as usize + 1]));
             let v = inside.blend(a + t * (b - a), zero);
@@ -106,6 +98,26 @@ impl Dense {
         }
         Dense { values, ..*self }
     }
+}
+
+/// The table cells of four grid positions `x` (in samples from the table's first) and the
+/// weights of their upper samples: each lane's `i` and `t` of a scalar lookup where x is in
+/// [0, last]; elsewhere clamped there first, so every index is valid (the caller masks those
+/// lanes). `max_i` is the last cell (samples − 2).
+#[inline(always)]
+pub(crate) fn cells4(
+    x: wide::f32x4,
+    last: wide::f32x4,
+    max_i: wide::i32x4,
+) -> ([i32; 4], wide::f32x4) {
+    let zero = wide::f32x4::splat(0.0);
+    let i = x
+        .max(zero)
+        .min(last)
+        .fast_trunc_int()
+        .max(wide::i32x4::splat(0))
+        .min(max_i);
+    (i.to_array(), x - i.round_float())
 }
 
 /// `repr(u8)`: a plain tag byte. Without it rustc may keep the variant in a niche of a field
