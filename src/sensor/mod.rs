@@ -180,23 +180,17 @@ impl Sensor {
             }
         }
         if !self.responses.is_empty() {
-            self.add_responses(acc, l, w, wl);
+            self.add_responses(acc, &v, wl);
         }
         if !self.extras.is_empty() {
             self.add_extras(acc, l, w, wl);
         }
     }
 
+    /// The response channels' share of `add`, given its weighted radiance `v` = L·w per lane.
     #[inline(never)]
-    fn add_responses<const N: usize>(
-        &self,
-        acc: &mut [f64],
-        l: &Spectrum<N>,
-        w: &Spectrum<N>,
-        wl: &Wavelengths<N>,
-    ) {
+    fn add_responses<const N: usize>(&self, acc: &mut [f64], v: &[f32; N], wl: &Wavelengths<N>) {
         let acc = &mut acc[self.response_base..];
-        let v: [f32; N] = std::array::from_fn(|j| l[j] * w[j]);
         if let Some(grid) = &self.response_grid {
             let acc = &mut acc[..self.responses.len()];
             for (&v, &lambda) in v.iter().zip(&wl.lambda) {
