@@ -207,11 +207,7 @@ pub fn plan(base: &Base, i: u32) -> Result<FramePlan, InputError> {
             ),
             // A blackbody of unit luminance, like the named illuminants, times the intensity.
             (Some(t), None) => {
-                let y = Curve::Blackbody {
-                    kelvin: t,
-                    scale: 1.0,
-                }
-                .luminance();
+                let y = Curve::blackbody(t).luminance();
                 SpectrumConfig::Scaled(
                     intensity.unwrap_or(1.0) / y,
                     Box::new(SpectrumConfig::Blackbody(t)),

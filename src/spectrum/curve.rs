@@ -3,13 +3,13 @@
 //! Every form a scene can write (constant, tabulated, file, named, blackbody, RGB) resolves to
 //! one of these variants when the scene loads, so evaluation is one `match` and a few flops.
 
+pub use super::blackbody::{planck, Blackbody};
 use super::color::cie1931;
 use super::gamut::Gamut;
 use super::knots::Knots;
 use super::rgb2spec::{self, Sigmoid};
 use super::sampled::Spectrum;
 use super::wavelengths::Wavelengths;
-use crate::math::portable;
 
 /// Samples on an even grid, linearly interpolated; 0 outside [start, start + (n-1)·step].
 #[derive(Clone, Debug, PartialEq)]
@@ -20,6 +20,20 @@ pub struct Dense {
 }
 
 impl Dense {
+    /// Samples `values` from `start` nm, `per_nm` of them per nm.
+    pub(super) fn new(start: f32, per_nm: f32, values: Vec<f32>) -> Dense {
+        Dense {
+            start,
+            inv_step: per_nm,
+            values,
+        }
+    }
+
+    /// Every sample times `k`.
+    pub(super) fn scale_values(&mut self, k: f32) {
+        self.values.iter_mut().for_each(|v| *v *= k);
+    }
+
     #[inline]
     pub fn eval(&self, lambda: f32) -> f32 {
         let x = (lambda - self.start) * self.inv_step;
@@ -132,11 +146,8 @@ pub enum Curve {
         nm: Knots,
         values: Vec<f32>,
     },
-    /// Planck's law in W m⁻² sr⁻¹ nm⁻¹, times `scale`.
-    Blackbody {
-        kelvin: f32,
-        scale: f32,
-    },
+    /// Planck's law in W m⁻² sr⁻¹ nm⁻¹, times a scale (tabulated: `blackbody.rs`).
+    Blackbody(Blackbody),
     /// A Jakob–Hanika sigmoid spectrum (bounded to [0, 1]) times `scale`.
     Rgb {
         sigmoid: Sigmoid,
@@ -148,20 +159,6 @@ pub enum Curve {
         scale: f32,
         illuminant: Dense,
     },
-}
-
-// Planck's law constants (CODATA 2018, exact in SI).
-const PLANCK_H: f64 = 6.626_070_15e-34;
-const LIGHT_C: f64 = 299_792_458.0;
-const BOLTZMANN_K: f64 = 1.380_649e-23;
-
-/// Blackbody spectral radiance in W m⁻² sr⁻¹ nm⁻¹ at `lambda` nm and `kelvin` K.
-pub fn planck(lambda: f32, kelvin: f32) -> f32 {
-    let l = lambda as f64 * 1e-9;
-    let t = kelvin as f64;
-    let radiance_per_m = 2.0 * PLANCK_H * LIGHT_C * LIGHT_C
-        / (l.powi(5) * (portable::exp_m1(PLANCK_H * LIGHT_C / (l * BOLTZMANN_K * t))));
-    (radiance_per_m * 1e-9) as f32
 }
 
 /// An `Irregular` curve at `lambda`: 0 outside the knots, else linear between the two around it.
@@ -177,6 +174,11 @@ fn irregular(knots: &Knots, values: &[f32], lambda: f32) -> f32 {
 }
 
 impl Curve {
+    /// Planck's law at `kelvin`, of unit scale.
+    pub fn blackbody(kelvin: f32) -> Curve {
+        Curve::Blackbody(Blackbody::new(kelvin, 1.0))
+    }
+
     /// A curve through (nm, value) samples: `Dense` when the spacing is even, else `Irregular`.
     /// `nm` must be strictly increasing with at least one sample (the config checks).
     pub fn from_samples(nm: &[f64], values: &[f64]) -> Curve {
@@ -246,17 +248,14 @@ impl Curve {
         match self {
             Curve::Constant(v) => Curve::Constant(v * k),
             Curve::Dense(mut d) => {
-                d.values.iter_mut().for_each(|v| *v *= k);
+                d.scale_values(k);
                 Curve::Dense(d)
             }
             Curve::Irregular { nm, mut values } => {
                 values.iter_mut().for_each(|v| *v *= k);
                 Curve::Irregular { nm, values }
             }
-            Curve::Blackbody { kelvin, scale } => Curve::Blackbody {
-                kelvin,
-                scale: scale * k,
-            },
+            Curve::Blackbody(b) => Curve::Blackbody(b.scaled(k)),
             Curve::Rgb { sigmoid, scale } => Curve::Rgb {
                 sigmoid,
                 scale: scale * k,
@@ -279,7 +278,7 @@ impl Curve {
             Curve::Constant(v) => *v,
             Curve::Dense(d) => d.eval(lambda),
             Curve::Irregular { nm, values } => irregular(nm, values, lambda),
-            Curve::Blackbody { kelvin, scale } => scale * planck(lambda, *kelvin),
+            Curve::Blackbody(b) => b.eval_one(lambda),
             Curve::Rgb { sigmoid, scale } => scale * sigmoid.eval(lambda),
             Curve::RgbIlluminant {
                 sigmoid,
@@ -310,6 +309,10 @@ impl Curve {
                 let s = sigmoid.eval_lanes(&wl.lambda);
                 let d = illuminant.eval_lanes(&wl.lambda);
                 Spectrum::from_fn(|i| scale * s[i] * d[i])
+            }
+            Curve::Blackbody(b) => {
+                let v = b.eval_lanes(&wl.lambda);
+                Spectrum::from_fn(|i| v[i])
             }
             _ => Spectrum::from_fn(|i| self.eval_one(wl.lambda[i])),
         }

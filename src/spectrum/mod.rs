@@ -1,6 +1,7 @@
 //! Spectra: values at a path's wavelengths (`Spectrum<N>`), how those wavelengths are drawn,
 //! and the continuous spectra (`Curve`) they are evaluated from.
 
+pub mod blackbody;
 pub mod color;
 pub mod curve;
 pub mod data;

@@ -105,11 +105,7 @@ impl Base {
             let mut spectra: Vec<(String, Respectrum)> = Vec::new();
             if let Some((t0, t1)) = l.temperature {
                 for t in [t0, t1] {
-                    let y = Curve::Blackbody {
-                        kelvin: t,
-                        scale: 1.0,
-                    }
-                    .luminance();
+                    let y = Curve::blackbody(t).luminance();
                     spectra.push((
                         format!("(intensity {hi}, temperature {t} K)"),
                         Box::new(move |_| {

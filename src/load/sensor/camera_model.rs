@@ -51,10 +51,7 @@ pub(super) fn camera_model(
                     format!("colour temperature {k} K is outside 1000–40000 K"),
                 ));
             }
-            Some(Curve::Blackbody {
-                kelvin: *k,
-                scale: 1.0,
-            })
+            Some(Curve::blackbody(*k))
         }
     };
     let m = match &wb_illum {

@@ -125,10 +125,7 @@ impl SpectrumConfig {
                 if role != Role::Emission {
                     return Err(ctx.err("a blackbody is an emission spectrum, not a reflectance or an index of refraction"));
                 }
-                Curve::Blackbody {
-                    kelvin: *kelvin,
-                    scale: 1.0,
-                }
+                Curve::blackbody(*kelvin)
             }
             SpectrumConfig::Gaussian { centre, fwhm } => {
                 check_finite(ctx, "the centre", *centre)?;
