@@ -203,7 +203,8 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
     }
     crate::pipeline::check_outputs(&job, &out, args.preview.as_deref())?;
     let s = &job.settings;
-    // Adaptive: the most samples the render may take (pilots included).
+    // Adaptive: at most `spp` (= max) a pixel, pilot included, or a discarded pilot more for
+    // a pixel alone in its tile: an upper bound for the progress line.
     let per_pixel = s.spp as u64 + s.adaptive.map_or(0, |a| a.min as u64);
     let total = s.width as u64 * s.height as u64 * per_pixel;
     let reporter = Reporter::new(total, args.workers.quiet);

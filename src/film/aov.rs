@@ -18,10 +18,10 @@
 //!   `integrator::albedo`); background 0.
 //! - `stderr`: each pixel's standard error of Y and of every band, √(s²/spp) with s² the
 //!   unbiased variance of its camera samples' contributions (the colour channels are unchanged);
-//!   under adaptive sampling, the achieved error of the estimate's samples (the pilot's not
-//!   counted).
+//!   under adaptive sampling, the achieved error of the estimate's samples (its pilot, the
+//!   first `min`, included).
 //! - `spp`: the number of camera samples each pixel's estimate averaged (32-bit unsigned; the
-//!   scene's spp everywhere unless adaptive, whose pilot batch is not counted).
+//!   scene's spp everywhere unless adaptive, whose pilot is in the count).
 //! - Flow (`integrator::flow`; docs/sidecar.md, "Flow"): the surface point seen through the
 //!   pixel centre at the frame time t, followed to the frame t ± step (`camera.fps`):
 //!   `flow_*` in pixels on OpenCV's image axes (x right, y down), from this frame's pixel
@@ -180,7 +180,7 @@ impl Aov {
             Aov::Material => "1 + index of the shape's material (materials; 0: none)",
             Aov::Alpha => "fraction of the pixel's camera samples that hit a surface (filtered like radiance)",
             Aov::Stderr => "standard error of the pixel's Y, each band (stderr.S0.<λ>nm), response channel and camera.R/G/B, for every sensor (an extra sensor's: <name>.stderr.*), from the spread of its camera samples' own values of that channel: sqrt(sample variance / spp); the RGB spaces and corrected.* have none",
-            Aov::Spp => "camera samples the pixel's estimate averaged (sampler.spp; adaptive sampling: the pixel's own count, its pilot batch not counted)",
+            Aov::Spp => "camera samples the pixel's estimate averaged (sampler.spp; adaptive sampling: the pixel's own count, its pilot included)",
             Aov::Flow(d) => match d {
                 Dir::Forward => "optical flow to the frame 1/fps later, pixels, OpenCV image axes (x right, y down): the surface point seen through this pixel's centre is seen there at centre + flow (0: none)",
                 Dir::Backward => "optical flow to the frame 1/fps earlier, pixels, OpenCV image axes (x right, y down): the surface point seen through this pixel's centre was seen there at centre + flow (0: none)",

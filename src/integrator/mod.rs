@@ -34,7 +34,7 @@ pub struct RenderSettings {
     pub height: u32,
     /// Samples per pixel; with `adaptive`, the most a pixel's estimate takes.
     pub spp: u32,
-    /// Adaptive sampling (`adaptive`): each pixel's count from a pilot batch of its own.
+    /// Adaptive sampling (`adaptive`): each pixel's count from its neighbours' pilots.
     pub adaptive: Option<adaptive::AdaptiveSpp>,
     pub seed: u64,
     pub sampler: SamplerKind,
@@ -112,7 +112,7 @@ pub struct PixelErrors {
     /// pixel); empty otherwise.
     pub stderr: Vec<f32>,
     /// The samples each pixel's estimate averaged (`settings.spp` everywhere unless adaptive;
-    /// an adaptive pilot batch is not counted: it is not in the estimate).
+    /// an adaptive pixel's pilot is in its estimate and its count).
     pub spp: Vec<u32>,
 }
 

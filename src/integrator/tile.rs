@@ -71,23 +71,25 @@ struct Pass<'a, const N: usize> {
 pub(crate) const CHECK_EVERY: u32 = 4096;
 
 impl<const N: usize> Pass<'_, N> {
-    /// Samples `0..n` of pixel (x, y) from `sampler`, summed into `sums` (with `SQ`, their
+    /// Samples `from..n` of pixel (x, y) from `sampler`, summed into `sums` (with `SQ`, their
     /// squares too: a second add into a scratch, so `acc` sums exactly as without them).
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn take<const SQ: bool>(
         &self,
         x: u32,
         y: u32,
         sampler: &mut PixelSampler,
+        from: u32,
         n: u32,
         sums: &mut Sums,
         counts: &mut TileCounts,
     ) {
         let settings = self.settings;
-        counts.samples += n as u64;
+        counts.samples += n.saturating_sub(from) as u64;
         // In runs of CHECK_EVERY samples, with the check between runs: no cost per sample.
-        for run in (0..n).step_by(CHECK_EVERY as usize) {
-            if run > 0 {
+        for run in (from..n).step_by(CHECK_EVERY as usize) {
+            if run > from {
                 (self.progress)(0);
             }
             for s in run..n.min(run.saturating_add(CHECK_EVERY)) {
@@ -200,31 +202,71 @@ pub(crate) fn render_tile<const N: usize, const SE: bool>(
         },
         progress,
     };
-    // Adaptive: the pilot's accumulators, the slots it judges and the seed of its stream.
-    let adaptive = settings.adaptive.map(|a| {
-        let slots_judged = adaptive::target_slots(&a, sensor);
-        (a, Sums::new(slots, true), slots_judged)
-    });
-    let pilot_seed = adaptive::pilot_seed(settings.seed);
-    let mut adaptive = adaptive;
+    if let Some(a) = &settings.adaptive {
+        adaptive_tile::<N, SE>(&pass, a, (x0, y0, x1, y1), &mut out);
+        return out;
+    }
     for y in y0..y1 {
         for x in x0..x1 {
             let pixel = y as u64 * settings.width as u64 + x as u64;
-            let n = match &mut adaptive {
-                None => settings.spp,
-                Some((a, pilot, judged)) => {
-                    pilot.clear();
-                    let mut ps = PixelSampler::new(settings.sampler, pilot_seed, pixel);
-                    pass.take::<true>(x, y, &mut ps, a.min, pilot, &mut out.counts);
-                    let (s, q) = (&pilot.acc, &pilot.acc2);
-                    adaptive::count(a, settings.sampler, a.min, s, q, judged)
-                }
-            };
             sums.clear();
             let mut sampler = PixelSampler::new(settings.sampler, settings.seed, pixel);
-            pass.take::<SE>(x, y, &mut sampler, n, &mut sums, &mut out.counts);
+            let n = settings.spp;
+            pass.take::<SE>(x, y, &mut sampler, 0, n, &mut sums, &mut out.counts);
             finish_pixel::<SE>(&sums, n, &mut out);
         }
     }
     out
+}
+
+/// A tile under adaptive sampling (`adaptive` says why this order is unbiased): every pixel's
+/// first `min` samples (its pilot, kept), then each pixel's count from its neighbours' pilots
+/// in the tile and the samples up to it.
+fn adaptive_tile<const N: usize, const SE: bool>(
+    pass: &Pass<N>,
+    a: &adaptive::AdaptiveSpp,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    out: &mut TileOut,
+) {
+    let settings = pass.settings;
+    let (tw, th) = (x1 - x0, y1 - y0);
+    let judged = adaptive::target_slots(a, pass.sensor);
+    let at = |i: usize| (x0 + i as u32 % tw, y0 + i as u32 / tw);
+    let sampler_of = |(x, y): (u32, u32)| {
+        let pixel = y as u64 * settings.width as u64 + x as u64;
+        PixelSampler::new(settings.sampler, settings.seed, pixel)
+    };
+    let mut sums: Vec<Sums> = (0..tw * th)
+        .map(|_| Sums::new(pass.sensor.slots(), true))
+        .collect();
+    for (i, s) in sums.iter_mut().enumerate() {
+        let (x, y) = at(i);
+        pass.take::<true>(x, y, &mut sampler_of((x, y)), 0, a.min, s, &mut out.counts);
+    }
+    let pilots: Vec<adaptive::Pilot> = sums
+        .iter()
+        .map(|s| adaptive::Pilot::of(a.min, &s.acc, &s.acc2, &judged))
+        .collect();
+    for (i, s) in sums.iter_mut().enumerate() {
+        let (x, y) = at(i);
+        let (cx, cy) = (i as u32 % tw, i as u32 / tw);
+        let near =
+            adaptive::neighbours(cx, cy, tw, th).map(|(nx, ny)| &pilots[(ny * tw + nx) as usize]);
+        let n = match adaptive::count_from(a, settings.sampler, near) {
+            Some(n) => n,
+            // A lone pixel (a 1×1 tile): a pilot of its own from a stream of its own,
+            // discarded.
+            None => {
+                let pixel = y as u64 * settings.width as u64 + x as u64;
+                let seed = adaptive::pilot_seed(settings.seed);
+                let mut own = Sums::new(pass.sensor.slots(), true);
+                let mut ps = PixelSampler::new(settings.sampler, seed, pixel);
+                pass.take::<true>(x, y, &mut ps, 0, a.min, &mut own, &mut out.counts);
+                let p = adaptive::Pilot::of(a.min, &own.acc, &own.acc2, &judged);
+                adaptive::count_from(a, settings.sampler, std::iter::once(&p)).unwrap_or(a.max)
+            }
+        };
+        pass.take::<SE>(x, y, &mut sampler_of((x, y)), a.min, n, s, &mut out.counts);
+        finish_pixel::<SE>(s, n, out);
+    }
 }

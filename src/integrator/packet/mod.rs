@@ -117,7 +117,7 @@ pub fn auto_width() -> usize {
 /// material, emitter, texture, sensor, AOV layer, instancing, clamp, stderr) is in packets.
 pub fn unsupported(scene: &Scene, settings: &RenderSettings) -> Option<&'static str> {
     if settings.adaptive.is_some() {
-        // Its pilot batch decides each pixel's count before the pixel's own samples start.
+        // A tile's pilots set each pixel's count before the pixel's other samples start.
         return Some("adaptive sampling");
     }
     if settings.path.caustics.is_some() {
