@@ -232,10 +232,11 @@ fn adaptive_tile<const N: usize, const SE: bool>(
     let (tw, th) = (x1 - x0, y1 - y0);
     let judged = adaptive::target_slots(a, pass.sensor);
     let at = |i: usize| (x0 + i as u32 % tw, y0 + i as u32 / tw);
-    let sampler_of = |(x, y): (u32, u32)| {
+    let stream = |seed: u64, (x, y): (u32, u32)| {
         let pixel = y as u64 * settings.width as u64 + x as u64;
-        PixelSampler::new(settings.sampler, settings.seed, pixel)
+        PixelSampler::new(settings.sampler, seed, pixel)
     };
+    let sampler_of = |xy| stream(settings.seed, xy);
     let mut sums: Vec<Sums> = (0..tw * th)
         .map(|_| Sums::new(pass.sensor.slots(), true))
         .collect();
@@ -257,13 +258,10 @@ fn adaptive_tile<const N: usize, const SE: bool>(
             // A lone pixel (a 1×1 tile): a pilot of its own from a stream of its own,
             // discarded.
             None => {
-                let pixel = y as u64 * settings.width as u64 + x as u64;
-                let seed = adaptive::pilot_seed(settings.seed);
                 let mut own = Sums::new(pass.sensor.slots(), true);
-                let mut ps = PixelSampler::new(settings.sampler, seed, pixel);
+                let mut ps = stream(adaptive::pilot_seed(settings.seed), (x, y));
                 pass.take::<true>(x, y, &mut ps, 0, a.min, &mut own, &mut out.counts);
-                let p = adaptive::Pilot::of(a.min, &own.acc, &own.acc2, &judged);
-                adaptive::count_from(a, settings.sampler, std::iter::once(&p)).unwrap_or(a.max)
+                adaptive::count(a, settings.sampler, a.min, &own.acc, &own.acc2, &judged)
             }
         };
         pass.take::<SE>(x, y, &mut sampler_of((x, y)), a.min, n, s, &mut out.counts);

@@ -33,8 +33,9 @@ pub fn planck(lambda: f32, kelvin: f32) -> f32 {
 /// `scale` × Planck's law at `kelvin`, with its table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Blackbody {
-    pub kelvin: f32,
-    pub scale: f32,
+    // Private: the table is made from them.
+    kelvin: f32,
+    scale: f32,
     /// `scale · planck` every 1/PER_NM nm over [TABLE_LO, TABLE_HI].
     table: Dense,
 }
