@@ -198,8 +198,6 @@ fn bad_input_names_file_field_and_fix() {
         r#"(camera: (model: ThinLens(aperture_radius: 0.1, focus_distance: 2)), integrator: (caustics: Some(())))"#,
     );
     assert_eq!(e.field.as_deref(), Some("integrator.caustics"));
-    let e = load_err(r#"(aovs: ["stderr"], integrator: (caustics: Some(())))"#);
-    assert_eq!(e.field.as_deref(), Some("aovs[0]"));
     let e = load_err(r#"(camera: (model: Orthographic()))"#);
     assert_eq!(e.field.as_deref(), Some("camera.model"));
 }

@@ -75,8 +75,8 @@ pub fn render(
 
 /// As `render`, also returning each pixel's sample count and, with `stderr`, its standard
 /// error of every accumulator slot (X, Y, Z, bands; `slots` per pixel, from the spread of its
-/// camera samples), the colour channels staying bit for bit those of `render`. Caustic light tracing adds no per-pixel
-/// samples, so the scene loader refuses the `stderr` AOV with it.
+/// camera samples, plus with caustic light tracing the variance of its light paths' mean), the
+/// colour channels staying bit for bit those of `render`.
 pub fn render_film(
     scene: &Scene,
     settings: &RenderSettings,
@@ -175,8 +175,17 @@ fn render_lanes<const N: usize, const SE: bool>(
         }
     }
     if let Some(c) = &caustics {
-        for (m, add) in means.iter_mut().zip(c.render::<N>(scene, settings, sensor)) {
+        // Light paths per camera sample of the estimates (an adaptive render's count is
+        // known only now; a fixed one's is width · height · spp).
+        let estimated: u64 = spp.iter().map(|&n| n as u64).sum();
+        let (add, var) = c.render::<N, SE>(scene, settings, sensor, estimated);
+        for (m, add) in means.iter_mut().zip(add) {
             *m = (*m as f64 + add) as f32;
+        }
+        // The two estimates are independent: their variances add.
+        for (e, v) in se.iter_mut().zip(var) {
+            let e0 = *e as f64;
+            *e = (e0 * e0 + v).sqrt() as f32;
         }
     }
     (

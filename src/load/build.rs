@@ -286,13 +286,6 @@ pub(super) fn build_moving(
     };
     if let Some(a) = settings.adaptive {
         check(
-            settings.path.caustics.is_none(),
-            file,
-            "sampler.spp",
-            "adaptive sampling measures each pixel's own samples, and caustic light tracing adds \
-             none to them; use a fixed spp with integrator.caustics, or drop the caustics",
-        )?;
-        check(
             a.target != crate::config::ErrorTarget::Bands || channels.sensor.bands().is_some(),
             file,
             "sampler.spp.target",
@@ -321,7 +314,7 @@ pub(super) fn build_moving(
         motions,
     );
     scene.shape_name = shape_name;
-    let aovs = super::objects::aovs(&cfg.aovs, cfg.integrator.caustics.is_some(), file)?;
+    let aovs = super::objects::aovs(&cfg.aovs, file)?;
     let objects = super::objects::objects(&cfg, &scene, file, &shape_source, material_names)?;
     Ok(Job {
         scene,

@@ -220,9 +220,7 @@ fn label_table(cfg: &SceneConfig, file: &Path) -> Result<Vec<String>, InputError
 }
 
 /// The `aovs` list by name; unknown or repeated names are errors that list the valid ones.
-/// `caustics`: the scene traces caustics from the lights, whose splats have no per-pixel
-/// samples for `stderr`.
-pub fn aovs(names: &[String], caustics: bool, file: &Path) -> Result<Vec<Aov>, InputError> {
+pub fn aovs(names: &[String], file: &Path) -> Result<Vec<Aov>, InputError> {
     let mut out = Vec::with_capacity(names.len());
     for (i, n) in names.iter().enumerate() {
         let Some(a) = Aov::parse(n.trim()) else {
@@ -239,14 +237,6 @@ pub fn aovs(names: &[String], caustics: bool, file: &Path) -> Result<Vec<Aov>, I
                     .field(format!("aovs[{i}]"))
                     .hint("list each AOV once"),
             );
-        }
-        if a == Aov::Stderr && caustics {
-            return Err(InputError::new(
-                file,
-                "the stderr AOV cannot be measured with caustic light tracing (its light paths are not per-pixel samples)",
-            )
-            .field(format!("aovs[{i}]"))
-            .hint("remove \"stderr\" or turn caustics off (`--caustics off`)"));
         }
         out.push(a);
     }

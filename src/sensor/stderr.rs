@@ -1,6 +1,7 @@
 //! The `stderr` layer of every sensor of a render: each output channel's standard error from
 //! the spread of the pixel's camera samples (`integrator::render_film` keeps, per accumulator
-//! slot, √(s²/n) with s² the unbiased variance of the samples' own slot values).
+//! slot, √(s²/n) with s² the unbiased variance of the samples' own slot values; with caustic
+//! light tracing, the variance of the light paths' mean added under the root).
 //!
 //! A channel that is one slot (Y, an even band, a response channel such as a filter or an
 //! explicit band) has that slot's standard error: each sample adds its own estimate of that

@@ -14,8 +14,9 @@ Curves (one render per spp of a doubling ladder, render time only, scene loading
   and with Mitsuba's settings (independent, 4 wavelengths, no light tracing): `prism as
   Mitsuba`;
 - prism with adaptive sampling (`prism adaptive`: a ladder of `--rel-error` targets, the
-  adaptive defaults min 16, max 4096, Y; without caustic light tracing, which adaptive sampling
-  refuses), its "spp" the mean over the pixels;
+  adaptive defaults min 16, max 4096, Y; caustic light tracing as the scene file sets it, its
+  light paths per camera sample of the estimates), its "spp" the mean over the pixels; and,
+  on the materials scene, `prism adaptive without caustics`;
 - Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` on the exported scene, each with its
   default `independent` sampler and with its low-discrepancy `ldsampler` (each spp after a
   warm-up render, so the LLVM variant's kernel compilation is not counted).
@@ -64,12 +65,18 @@ PRISM_VARIANTS = {
     "prism scalar": [*DEFAULTS, "--simd", "off"],
 }
 # Adaptive sampling (issue 26 item 3): a ladder of `--rel-error` targets in place of spp, at the
-# adaptive defaults (min 16, max 4096, Y). Caustic light tracing adds samples no pixel measures,
-# so adaptive renders run without it (the CLI refuses the pair).
-ADAPTIVE = {"prism adaptive": [*DEFAULTS, "--caustics", "off"]}
+# adaptive defaults (min 16, max 4096, Y). Caustic light tracing stays as the scene sets it: its
+# light paths are counted per camera sample the estimates took.
+ADAPTIVE = {
+    "prism adaptive": [*DEFAULTS],
+    "prism adaptive without caustics": [*DEFAULTS, "--caustics", "off"],
+}
 REL_ERRORS = {"full": [0.4, 0.28, 0.2, 0.14, 0.1], "quick": [0.4, 0.28]}
 # Variants that only differ from `prism` on some scenes, run on those alone.
-VARIANT_SCENES = {"prism without caustics": {"materials"}}
+VARIANT_SCENES = {
+    "prism without caustics": {"materials"},
+    "prism adaptive without caustics": {"materials"},
+}
 MITSUBA_SAMPLERS = ("independent", "ldsampler")
 
 
@@ -154,7 +161,7 @@ def run_scene(name: str, binary: pathlib.Path, python: str, max_spp: int, ref_sp
             rows.append({"scene": name, "renderer": label, "spp": spp, "seconds": r["render_s"],
                          **errors(read_rgb(exr), ref_prism), "load_1min": load})
     for label, extra in ADAPTIVE.items():
-        if label not in variants:
+        if label not in variants or name not in VARIANT_SCENES.get(label, {name}):
             continue
         for e in rel_errors:
             exr = tmp / f"{name}_a.exr"

@@ -41,13 +41,16 @@ use crate::math::distribution::Distribution1D;
 use crate::math::rng::{hash3, Pcg32};
 use crate::scene::Scene;
 use crate::sensor::Sensor;
-use crate::spectrum::{Curve, Spectrum, Wavelengths};
+use crate::spectrum::Curve;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 mod connect;
 mod emit;
+mod sums;
+
+use sums::{Chunk, Splat, Sums};
 
 /// Settings of caustic light tracing (`integrator.caustics`); off when left out.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -125,13 +128,6 @@ pub struct Caustics<'a> {
 /// chunks whose splats are held in memory at once.
 const CHUNK: u64 = 4096;
 const BATCH: u64 = 64;
-
-/// One light path's contribution to one pixel.
-struct Splat<const N: usize> {
-    pixel: u32,
-    l: Spectrum<N>,
-    wl: Wavelengths<N>,
-}
 
 impl<'a> Caustics<'a> {
     /// The sources and targets of `scene`; None if it has no source or no object with a Dirac
@@ -221,48 +217,45 @@ impl<'a> Caustics<'a> {
         self.settings.max_roughness
     }
 
-    /// Traces the light paths for `settings` and returns what they add to each pixel's
-    /// accumulator slots (`sensor.slots()` per pixel, means over the image's light paths).
-    pub fn render<const N: usize>(
+    /// Traces the light paths of a render whose camera estimates took `samples` samples in
+    /// all (`light_paths` per camera sample: an adaptive render's count is known only after
+    /// its camera pass) and returns what they add to each pixel's accumulator slots
+    /// (`sensor.slots()` per pixel, means over the light paths) and, with `SE`, the variance
+    /// of those means (empty otherwise).
+    pub fn render<const N: usize, const SE: bool>(
         &self,
         scene: &Scene,
         settings: &RenderSettings,
         sensor: &Sensor,
-    ) -> Vec<f64> {
-        let (w, h) = (settings.width, settings.height);
-        let slots = sensor.slots();
-        let mut acc = vec![0.0f64; (w * h) as usize * slots];
-        let paths = ((w as f64 * h as f64 * settings.spp as f64 * self.settings.light_paths as f64)
-            .round() as u64)
-            .max(1);
+        samples: u64,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let pixels = (settings.width * settings.height) as usize;
+        let mut sums = Sums::new(pixels, sensor.slots(), SE);
+        let paths = ((samples as f64 * self.settings.light_paths as f64).round() as u64).max(1);
         let chunks = paths.div_ceil(CHUNK);
         let seed = hash3(settings.seed, 0xca05_71c5, 0);
         let mut next = 0;
         while next < chunks {
-            let batch: Vec<Vec<Splat<N>>> = (next..(next + BATCH).min(chunks))
+            let batch: Vec<Chunk<N>> = (next..(next + BATCH).min(chunks))
                 .into_par_iter()
                 .map(|c| {
-                    let mut out = Vec::new();
+                    let mut out = Chunk::default();
                     for k in c * CHUNK..((c + 1) * CHUNK).min(paths) {
-                        self.trace::<N>(scene, settings, hash3(seed, k, 1), &mut out);
+                        let start = out.splats.len();
+                        self.trace::<N>(scene, settings, hash3(seed, k, 1), &mut out.splats);
+                        if SE && out.splats.len() > start {
+                            out.starts.push(start as u32);
+                        }
                     }
                     out
                 })
                 .collect();
-            for s in batch.iter().flatten() {
-                let at = s.pixel as usize * slots;
-                sensor.add(
-                    &mut acc[at..at + slots],
-                    &s.l,
-                    &s.wl.estimator_weights(),
-                    &s.wl,
-                );
+            for chunk in &batch {
+                sums.add::<N, SE>(sensor, chunk);
             }
             next += BATCH;
         }
-        let inv = 1.0 / paths as f64;
-        acc.iter_mut().for_each(|a| *a *= inv);
-        acc
+        sums.finish(paths)
     }
 
     /// One light path, its splats appended to `out`.

@@ -15,6 +15,7 @@ use crate::math::chi2::chi2_test;
 use crate::math::portable;
 use crate::math::rng::Pcg32;
 use crate::math::Frame;
+use crate::spectrum::Spectrum;
 use crate::texture::RgbImage;
 use glam::Mat3;
 use std::f64::consts::PI;
