@@ -16,6 +16,8 @@ pub struct Distribution1D {
     /// starts a short walk there instead of a binary search (two of those were half of an
     /// environment map's sampling). Empty for small or unsorted tables (binary search).
     guide: Vec<u32>,
+    /// A sorted cdf too small for a guide: `count_at_most` counts it.
+    small_sorted: bool,
 }
 
 impl Distribution1D {
@@ -67,6 +69,7 @@ impl Distribution1D {
             cdf,
             integral,
             guide,
+            small_sorted: n < GUIDED && sorted,
         }
     }
 
@@ -97,10 +100,17 @@ impl Distribution1D {
     }
 
     /// How many cdf entries are <= u: `partition_point`'s answer (exactly: the walk stops at
-    /// the one place where the sorted cdf crosses u, wherever it starts).
+    /// the one place where the sorted cdf crosses u, wherever it starts, and on a sorted cdf
+    /// the count of entries <= u is that place).
     #[inline]
     fn count_at_most(&self, u: f32) -> usize {
         if self.guide.is_empty() || u.is_nan() {
+            if self.small_sorted {
+                // A small table counted without branches: an area light's triangle is a coin
+                // toss per sample (two triangles), which the binary search's branch mispredicted
+                // half the time.
+                return self.cdf.iter().map(|&c| (c <= u) as usize).sum();
+            }
             return self.cdf.partition_point(|&c| c <= u);
         }
         self.walk(u)
@@ -175,18 +185,75 @@ mod tests {
         assert!((r - 0.5).abs() < 1e-6);
     }
 
+    /// A xorshift stream of floats in [0, 1).
+    fn uniforms() -> impl FnMut() -> f32 {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
+    /// Probes of `count_at_most`: uniform ones, every cdf value and the floats next to it,
+    /// bucket edges (`m` buckets), out of range, infinities and NaN.
+    fn probes(d: &Distribution1D, m: usize, rnd: &mut impl FnMut() -> f32) -> Vec<f32> {
+        let mut us: Vec<f32> = (0..5000).map(|_| rnd()).collect();
+        for &c in &d.cdf {
+            us.extend([c, c.next_up(), c.next_down()]);
+        }
+        us.extend((0..=m).map(|k| k as f32 / m as f32));
+        us.extend([
+            -1.0,
+            -0.0,
+            0.0,
+            1.0,
+            1.5,
+            f32::INFINITY,
+            -f32::INFINITY,
+            f32::NAN,
+        ]);
+        us
+    }
+
+    /// The branch-free count of a small table gives `partition_point`'s index for every u:
+    /// tables of 1 to 15 cells, with zero cells, all zero, and one cell holding nearly all.
+    #[test]
+    fn small_count_is_the_binary_search() {
+        let mut rnd = uniforms();
+        let mut tables: Vec<Vec<f32>> = vec![vec![1.0], vec![0.0; 3], vec![1.0, 0.0, 3.0]];
+        for n in 1..GUIDED {
+            tables.push((0..n).map(|_| rnd()).collect());
+            tables.push(
+                (0..n)
+                    .map(|k| if k % 3 == 1 { rnd() } else { 0.0 })
+                    .collect(),
+            );
+            let mut spike: Vec<f32> = (0..n).map(|_| rnd() * 1e-6).collect();
+            spike[n / 2] = 1e4;
+            tables.push(spike);
+        }
+        for w in &tables {
+            let d = Distribution1D::new(w);
+            assert!(
+                d.small_sorted && d.guide.is_empty(),
+                "{} cells are counted",
+                w.len()
+            );
+            for u in probes(&d, w.len(), &mut rnd) {
+                let want = d.cdf.partition_point(|&c| c <= u);
+                assert_eq!(d.count_at_most(u), want, "u {u}, table {w:?}");
+            }
+        }
+    }
+
     /// The guided walk gives `partition_point`'s index for every u: on tables with zero
     /// cells, spikes (a sun), all-zero rows, many cells per bucket and one, at every cdf
     /// value, the floats next to them, bucket edges, out of range and NaN.
     #[test]
     fn guided_find_is_the_binary_search() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rnd = uniforms();
         let mut tables: Vec<Vec<f32>> = vec![vec![0.0; 40], vec![1.0; 16], vec![1.0; 1000]];
         for n in [16, 17, 63, 128, 1000, 4097] {
             tables.push((0..n).map(|_| rnd()).collect());
@@ -203,23 +270,7 @@ mod tests {
         for w in &tables {
             let d = Distribution1D::new(w);
             assert!(!d.guide.is_empty(), "{} cells are guided", w.len());
-            let mut us: Vec<f32> = (0..5000).map(|_| rnd()).collect();
-            for &c in &d.cdf {
-                us.extend([c, c.next_up(), c.next_down()]);
-            }
-            let m = d.guide.len() as f32;
-            us.extend((0..=d.guide.len()).map(|k| k as f32 / m));
-            us.extend([
-                -1.0,
-                -0.0,
-                0.0,
-                1.0,
-                1.5,
-                f32::INFINITY,
-                -f32::INFINITY,
-                f32::NAN,
-            ]);
-            for u in us {
+            for u in probes(&d, d.guide.len(), &mut rnd) {
                 let want = d.cdf.partition_point(|&c| c <= u);
                 assert_eq!(d.count_at_most(u), want, "u {u}, {} cells", w.len());
             }
