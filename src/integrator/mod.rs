@@ -22,7 +22,7 @@ use caustics::Caustics;
 pub use path::{Dispersion, PathSettings};
 use rayon::prelude::*;
 use tile::render_tile;
-pub(crate) use tile::{add_sample, finish_pixel, Sums, TileCounts, TileOut, CHECK_EVERY};
+pub(crate) use tile::{add_sample, finish_pixel_at, Sums, TileCounts, TileOut, CHECK_EVERY};
 
 /// Wavelengths per path the renderer is compiled for.
 pub const SUPPORTED_LANES: [usize; 5] = [1, 2, 4, 8, 16];

@@ -150,18 +150,45 @@ pub(crate) fn finish_pixel<const SE: bool>(sums: &Sums, n: u32, out: &mut TileOu
         .extend(sums.acc.iter().map(|&a| (a * inv_n) as f32));
     out.spp.push(n);
     if SE {
-        // Unbiased sample variance over n samples (invalid ones count as 0), / n.
         let n = n as f64;
-        out.se
-            .extend(sums.acc.iter().zip(&sums.acc2).map(|(&s, &q)| {
-                let var = if n > 1.0 {
-                    ((q - s * s / n) / (n - 1.0)).max(0.0)
-                } else {
-                    0.0
-                };
-                (var / n).sqrt() as f32
-            }));
+        out.se.extend(
+            sums.acc
+                .iter()
+                .zip(&sums.acc2)
+                .map(|(&s, &q)| standard_error(s, q, n)),
+        );
     }
+}
+
+/// `finish_pixel` into place `i` of `out`'s vectors, sized for the tile (the packet kernel's
+/// lanes finish their pixels out of order).
+#[inline(always)]
+pub(crate) fn finish_pixel_at<const SE: bool>(sums: &Sums, n: u32, out: &mut TileOut, i: usize) {
+    let slots = sums.acc.len();
+    let inv_n = 1.0 / n as f64;
+    let means = &mut out.means[i * slots..(i + 1) * slots];
+    for (m, &a) in means.iter_mut().zip(&sums.acc) {
+        *m = (a * inv_n) as f32;
+    }
+    out.spp[i] = n;
+    if SE {
+        let se = &mut out.se[i * slots..(i + 1) * slots];
+        for ((e, &s), &q) in se.iter_mut().zip(&sums.acc).zip(&sums.acc2) {
+            *e = standard_error(s, q, n as f64);
+        }
+    }
+}
+
+/// The standard error of a mean of `n` samples whose sum is `s` and sum of squares `q`: the
+/// unbiased sample variance (invalid samples count as 0), / n.
+#[inline(always)]
+fn standard_error(s: f64, q: f64, n: f64) -> f32 {
+    let var = if n > 1.0 {
+        ((q - s * s / n) / (n - 1.0)).max(0.0)
+    } else {
+        0.0
+    };
+    (var / n).sqrt() as f32
 }
 
 /// `dispersive`: some material of the scene samples directions by wavelength (see

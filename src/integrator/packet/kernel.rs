@@ -2,25 +2,34 @@
 //! path (`integrator::path::radiance` without dispersion or caustics, which `unsupported`
 //! sends to the scalar integrator), run for every busy lane in turn, so every lane does the
 //! scalar integrator's operations in its order: the bits cannot depend on W.
+//!
+//! A lane owns a pixel until it has traced all its samples, one after another, and sums each
+//! into the pixel's accumulators as it finishes: in sample order, as the scalar loop does, with
+//! no reordering between lanes. Its sampler's per-pixel scrambles are made once per pixel (a
+//! lane that hopped between pixels remade them at every hop).
 
-use super::stream::{Item, Stream};
-use super::TileArgs;
 use crate::bsdf::Bsdf;
 use crate::integrator::path::{Dispersion, Path};
-use crate::integrator::{TileCounts, TileOut, TILE};
+use crate::integrator::{add_sample, finish_pixel_at, Sums, TileCounts, TileOut, TILE};
 use crate::interaction::SurfaceInteraction;
 use crate::ray::Ray;
 use crate::sampler::{PixelSampler, BOUNCE_DIMS, CAMERA_DIMS};
-use crate::spectrum::{Spectrum, Wavelengths};
+use crate::sensor::Sensor;
+use crate::spectrum::Wavelengths;
 use glam::{Vec2, Vec3};
 
-/// One lane: the path it traces, and which camera sample that is.
+use super::TileArgs;
+
+/// One lane: the pixel it owns, and the path it traces.
 struct Lane<'a, const N: usize> {
-    /// The stream item it traces; None when idle.
-    item: Option<Item>,
-    /// The pixel (index in the image) `sampler` belongs to: a lane taking the same pixel's
-    /// next sample keeps it (its Sobol scrambles are made once per pixel).
-    pixel: u64,
+    /// True while it traces a path.
+    busy: bool,
+    /// The pixel it owns (index in the tile), if any.
+    pixel: Option<usize>,
+    /// Its pixel's next sample to start.
+    next: u32,
+    /// Its pixel's accumulators.
+    sums: Sums,
     sampler: PixelSampler,
     wl: Wavelengths<N>,
     ray: Ray,
@@ -28,6 +37,15 @@ struct Lane<'a, const N: usize> {
     depth: u32,
     /// The BSDF at the current hit, rebuilt in place at each (as the scalar loop does).
     bsdf: Bsdf<'a, N>,
+}
+
+impl<const N: usize> Lane<'_, N> {
+    /// Ends the lane's path: its radiance is its pixel's next sample.
+    #[inline(always)]
+    fn finish<const SE: bool>(&mut self, sensor: &Sensor, clamp: f32, counts: &mut TileCounts) {
+        self.busy = false;
+        add_sample::<N, SE>(sensor, clamp, self.path.l, &self.wl, &mut self.sums, counts);
+    }
 }
 
 /// Renders one tile in packets of W paths.
@@ -41,14 +59,15 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
     let tw = x1 - x0;
     let slots = sensor.slots();
     let pixels = (tw * (y1 - y0)) as usize;
+    // Sized for the tile: lanes finish their pixels out of order.
     let mut out = TileOut {
-        means: Vec::with_capacity(pixels * slots),
-        se: Vec::with_capacity(if SE { pixels * slots } else { 0 }),
-        spp: Vec::with_capacity(pixels),
+        means: vec![0.0; pixels * slots],
+        se: vec![0.0; if SE { pixels * slots } else { 0 }],
+        spp: vec![0; pixels],
         counts: TileCounts::default(),
     };
+    let spp = settings.spp;
     let clamp = settings.path.clamp.unwrap_or(f32::INFINITY);
-    let mut stream = Stream::<N>::new(pixels as u64, settings.spp, slots, SE, clamp);
     let max_depth = match settings.path.max_depth {
         d if d < 0 => u32::MAX,
         d => d as u32,
@@ -56,8 +75,10 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
     let n_emitters = scene.emitters.len();
     let placeholder_wl = settings.wavelengths.sample::<N>(0.5);
     let mut lanes: [Lane<N>; W] = std::array::from_fn(|_| Lane {
-        item: None,
-        pixel: u64::MAX,
+        busy: false,
+        pixel: None,
+        next: 0,
+        sums: Sums::new(slots, SE),
         sampler: PixelSampler::new(settings.sampler, settings.seed, 0),
         wl: placeholder_wl,
         ray: Ray::new(Vec3::ZERO, Vec3::Z),
@@ -65,6 +86,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
         depth: 1,
         bsdf: Bsdf::default(),
     });
+    let mut next_pixel = 0usize;
     let mut hits: [Option<SurfaceInteraction>; W] = [None; W];
     let mut countdown = super::super::CHECK_EVERY;
     loop {
@@ -75,49 +97,63 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             countdown = super::super::CHECK_EVERY;
             progress(0);
         }
-        // Refill: idle lanes take the stream's next samples, in lane order.
-        for lane in lanes.iter_mut().filter(|l| l.item.is_none()) {
-            let Some((item, p, s)) = stream.take() else {
+        // Refill: an idle lane starts its pixel's next sample; once the pixel has all its
+        // samples it is finished and the lane takes the tile's next pixel.
+        for lane in lanes.iter_mut().filter(|l| !l.busy) {
+            loop {
+                if lane.pixel.is_none() || lane.next == spp {
+                    if let Some(p) = lane.pixel.take() {
+                        finish_pixel_at::<SE>(&lane.sums, spp, &mut out, p);
+                        out.counts.samples += spp as u64;
+                        lane.sums.clear();
+                    }
+                    if next_pixel == pixels {
+                        break;
+                    }
+                    let p = next_pixel;
+                    next_pixel += 1;
+                    let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
+                    let pixel = y as u64 * settings.width as u64 + x as u64;
+                    lane.sampler.reset(settings.sampler, settings.seed, pixel);
+                    lane.pixel = Some(p);
+                    lane.next = 0;
+                }
+                let p = lane.pixel.unwrap_or_default();
+                let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
+                let sampler = &mut lane.sampler;
+                sampler.start(lane.next);
+                lane.next += 1;
+                let offset = settings.filter.sample(sampler.next_2d());
+                let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+                lane.wl = settings.wavelengths.sample::<N>(sampler.next_1d());
+                lane.ray = scene.camera_ray(film, y, sampler);
+                lane.path = Path::start(lane.ray.o, n_emitters, settings.dispersion);
+                if max_depth == 0 {
+                    // The path ends at the camera: a zero sample.
+                    lane.finish::<SE>(sensor, clamp, &mut out.counts);
+                    continue;
+                }
+                lane.depth = 1;
+                lane.busy = true;
                 break;
-            };
-            let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
-            let pixel = y as u64 * settings.width as u64 + x as u64;
-            if lane.pixel != pixel {
-                lane.sampler.reset(settings.sampler, settings.seed, pixel);
-                lane.pixel = pixel;
             }
-            let sampler = &mut lane.sampler;
-            sampler.start(s);
-            let offset = settings.filter.sample(sampler.next_2d());
-            let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-            lane.wl = settings.wavelengths.sample::<N>(sampler.next_1d());
-            lane.ray = scene.camera_ray(film, y, sampler);
-            if max_depth == 0 {
-                stream.put(item, Spectrum::zero(), lane.wl);
-                continue;
-            }
-            lane.path = Path::start(lane.ray.o, n_emitters, settings.dispersion);
-            lane.depth = 1;
-            lane.item = Some(item);
         }
-        stream.flush::<SE>(sensor, &mut out);
-        if lanes.iter().all(|l| l.item.is_none()) {
-            if stream.finished() {
-                break;
-            }
-            continue; // paths ended at the camera (max_depth 0): refill
+        if lanes.iter().all(|l| !l.busy) {
+            break; // every pixel finished
         }
 
         // Trace: one ray per lane through the BVH.
         for (lane, hit) in lanes.iter().zip(hits.iter_mut()) {
-            if lane.item.is_some() {
+            if lane.busy {
                 *hit = scene.intersect(&lane.ray);
             }
         }
 
         // Emission at the hit (or from the environment on a miss); the BSDF at the hit.
         for (lane, hit) in lanes.iter_mut().zip(hits.iter()) {
-            let Some(item) = lane.item else { continue };
+            if !lane.busy {
+                continue;
+            }
             let (ray, path, wl) = (&lane.ray, &mut lane.path, &lane.wl);
             let show = lane.depth > 1 || !settings.path.hide_emitters;
             let Some(si) = hit else {
@@ -126,16 +162,14 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
                         path.add_environment(&scene.emitters[e as usize], ray, wl);
                     }
                 }
-                stream.put(item, path.l, *wl);
-                lane.item = None;
+                lane.finish::<SE>(sensor, clamp, &mut out.counts);
                 continue;
             };
             if let Some(e) = scene.shape_emitter[si.shape as usize] {
                 path.add_hit_emission(scene, e, si, ray.d, wl, show);
             }
             if lane.depth >= max_depth {
-                stream.put(item, path.l, *wl);
-                lane.item = None;
+                lane.finish::<SE>(sensor, clamp, &mut out.counts);
                 continue;
             }
             let dim = CAMERA_DIMS + (lane.depth - 1).min(1 << 20) * BOUNCE_DIMS;
@@ -147,7 +181,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
         // Scatter: one pass per kind of BSDF, each over the lanes holding that kind.
         for diffuse_pass in [true, false] {
             for (lane, hit) in lanes.iter_mut().zip(hits.iter()) {
-                let (Some(item), Some(si)) = (lane.item, hit) else {
+                let (true, Some(si)) = (lane.busy, hit) else {
                     continue;
                 };
                 let (ray, path, wl, sampler) =
@@ -163,32 +197,27 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
                 };
                 match next {
                     Some(r) => lane.ray = r,
-                    None => {
-                        stream.put(item, path.l, *wl);
-                        lane.item = None;
-                    }
+                    None => lane.finish::<SE>(sensor, clamp, &mut out.counts),
                 }
             }
         }
 
         // Russian roulette, then the next bounce.
         for (lane, hit) in lanes.iter_mut().zip(hits.iter()) {
-            let (Some(item), Some(_)) = (lane.item, hit) else {
+            let (true, Some(_)) = (lane.busy, hit) else {
                 continue;
             };
-            let path = &mut lane.path;
             if lane.depth >= settings.path.rr_depth {
+                let path = &mut lane.path;
                 let q = (path.beta.max_value() * path.lane_w * path.eta * path.eta).min(0.95);
                 if lane.sampler.next_1d() >= q {
-                    stream.put(item, path.l, lane.wl);
-                    lane.item = None;
+                    lane.finish::<SE>(sensor, clamp, &mut out.counts);
                     continue;
                 }
-                path.beta /= q;
+                lane.path.beta /= q;
             }
             lane.depth += 1;
         }
-        stream.flush::<SE>(sensor, &mut out);
     }
     out
 }

@@ -1,29 +1,29 @@
 //! The packet kernel: each thread traces W paths at once, one per lane, W chosen at run time
 //! (16 with AVX-512, 8 with AVX2, 4 with SSE2/NEON, 1 as the reference), on one binary.
 //!
-//! **Work.** A tile's camera samples form one stream in (pixel, sample index) order; a lane
-//! that finishes its path takes the stream's next item, which is the same pixel's next sample
-//! or, once the pixel's samples are all handed out, the next pixel's first. So spp 1 fills the
-//! lanes as well as spp 1024, and neighbouring lanes trace samples of one pixel (coherent
-//! camera rays). A path runs as stages over all busy lanes: trace (one ray per lane through
+//! **Work.** A lane takes a pixel of the tile and traces its samples one after another; when
+//! the pixel has them all, the lane takes the tile's next pixel. So spp 1 fills the lanes as
+//! well as spp 1024, and a lane's sampler makes its pixel's scrambles once (lanes that hopped
+//! between pixels' samples remade them: +45% `PixelSampler::fill_group` instructions on the
+//! materials scene). A path runs as stages over all busy lanes: trace (one ray per lane through
 //! the BVH), emission at the hit or from the environment, the BSDF built at the hit, one
 //! masked scatter pass per kind of BSDF present in the packet (emitter sampling with its
 //! shadow ray, MIS, BSDF sampling), then Russian roulette.
 //!
 //! **Bits.** Every lane does exactly the IEEE operations the scalar integrator
 //! (`integrator::path`) does for its path, in the same order, with the same sampler
-//! dimensions; a lane's sampler depends only on (seed, pixel, sample index); results go to a
-//! ring indexed by stream position and are summed into the pixel in sample order (`stream`).
-//! So the image is bit-identical at W = 1, 4, 8, 16, at any thread count, and to the scalar
-//! integrator (tests/packet.rs). No stage reduces across lanes. Rust never contracts a·b + c
-//! into an FMA, and `#[target_feature]` does not switch glam's compile-time `cfg(target_feature
-//! = "fma")` paths on, so the wider entry points change instructions, not results.
+//! dimensions; a lane's sampler depends only on (seed, pixel, sample index); a finished path
+//! is summed into its pixel at once, and a pixel's samples finish in sample order (one lane
+//! traces them all). So the image is bit-identical at W = 1, 4, 8, 16, at any thread count,
+//! and to the scalar integrator (tests/packet.rs). No stage reduces across lanes. Rust never
+//! contracts a·b + c into an FMA, and `#[target_feature]` does not switch glam's compile-time
+//! `cfg(target_feature = "fma")` paths on, so the wider entry points change instructions, not
+//! results.
 //!
 //! **Fallback.** What is not in lanes renders with the scalar integrator, by the one rule in
 //! `unsupported` (stated in docs/performance.md, "Paths in lanes").
 
 mod kernel;
-mod stream;
 
 use crate::scene::Scene;
 use crate::sensor::Sensor;
