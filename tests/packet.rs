@@ -85,19 +85,59 @@ fn the_fallback_rule_names_what_is_not_in_packets() {
         why("scenes/stress/dispersive_prism.ron"),
         Some("a dispersive material")
     );
-    let mut j = job(Path::new("scenes/cornell.ron"), Simd::Auto).unwrap();
-    j.settings.adaptive = Some(prism::config::AdaptiveSpp {
-        rel_error: 0.1,
-        min: 4,
-        max: 8,
-        target: Default::default(),
-        floor: 1e-3,
-    });
     assert_eq!(
-        packet::unsupported(&j.scene, &j.settings),
-        Some("adaptive sampling")
+        why("scenes/bench/materials.ron"),
+        Some("caustic light tracing")
     );
+    let j = job(Path::new("scenes/bench/materials.ron"), Simd::Auto).unwrap();
     assert_eq!(packet::width(&j.scene, &j.settings), None);
+}
+
+/// Adaptive sampling in packets: its two passes (pilots, then each pixel's count from its
+/// neighbours') give the scalar integrator's bits at every width and on 2 threads, the `spp`
+/// and `stderr` layers included, on a 17×17 film whose corner tile is a lone pixel (its count
+/// from a pilot of its own) and whose counts vary from 4 to 1024 (with the lone pixel's pilot
+/// drawn from its ordinary stream instead, the corner pixel differs: value 288).
+#[test]
+fn adaptive_sampling_is_the_same_in_packets() {
+    let load = |simd| {
+        let mut j = prism::load::load(Path::new("scenes/cornell.ron"), |cfg| {
+            cfg.film.width = 17;
+            cfg.film.height = 17;
+            cfg.aovs = vec!["stderr".into(), "spp".into()];
+            cfg.sampler.spp = prism::config::Spp::Adaptive(prism::config::AdaptiveSpp {
+                rel_error: 0.2,
+                min: 4,
+                max: 1024,
+                target: Default::default(),
+                floor: 1e-3,
+            });
+        })
+        .unwrap();
+        j.settings.simd = simd;
+        j
+    };
+    let reference = load(Simd::Off);
+    assert_eq!(
+        packet::unsupported(&reference.scene, &reference.settings),
+        None
+    );
+    let want = render(&reference, 1);
+    let spp = &want
+        .iter()
+        .find(|(n, _)| n == "spp.N")
+        .expect("an spp layer")
+        .1;
+    let (lo, hi) = (spp.iter().min().unwrap(), spp.iter().max().unwrap());
+    assert!(lo < hi, "counts {lo}..{hi} should vary");
+    for simd in [Simd::W1, Simd::W4, Simd::Auto] {
+        let got = render(&load(simd), 1);
+        if let Some(d) = first_difference(&want, &got) {
+            panic!("adaptive, --simd {simd:?}: differs from the scalar integrator at {d}");
+        }
+    }
+    let got = render(&load(Simd::Auto), 2);
+    assert_eq!(first_difference(&want, &got), None, "2 threads");
 }
 
 /// `--simd` takes the width (recorded in the EXR header) and refuses one this CPU lacks with

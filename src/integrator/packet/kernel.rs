@@ -10,7 +10,7 @@
 
 use crate::bsdf::Bsdf;
 use crate::integrator::path::{Dispersion, Path};
-use crate::integrator::{add_sample, finish_pixel_at, Sums, TileCounts, TileOut, TILE};
+use crate::integrator::{adaptive, add_sample, Sums, TileCounts, TileOut, TILE};
 use crate::interaction::SurfaceInteraction;
 use crate::ray::Ray;
 use crate::sampler::{PixelSampler, BOUNCE_DIMS, CAMERA_DIMS};
@@ -18,6 +18,7 @@ use crate::sensor::Sensor;
 use crate::spectrum::Wavelengths;
 use glam::{Vec2, Vec3};
 
+use super::passes::{self, Fixed, Pass, Pilots, Rest};
 use super::TileArgs;
 
 /// One lane: the pixel it owns, and the path it traces.
@@ -26,8 +27,9 @@ struct Lane<'a, const N: usize> {
     busy: bool,
     /// The pixel it owns (index in the tile), if any.
     pixel: Option<usize>,
-    /// Its pixel's next sample to start.
+    /// Its pixel's next sample to start, and the end of the pass's samples of it.
     next: u32,
+    to: u32,
     /// Its pixel's accumulators.
     sums: Sums,
     sampler: PixelSampler,
@@ -48,17 +50,17 @@ impl<const N: usize> Lane<'_, N> {
     }
 }
 
-/// Renders one tile in packets of W paths.
+/// Renders one tile in packets of W paths: one pass at a fixed spp, two under adaptive
+/// sampling (`passes`).
 #[inline(always)]
 pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) -> TileOut {
-    let (scene, settings, sensor, progress, x0, y0) = a;
-    let (x1, y1) = (
-        (x0 + TILE).min(settings.width),
-        (y0 + TILE).min(settings.height),
+    let (_, settings, sensor, _, x0, y0) = a;
+    let (tw, th) = (
+        (x0 + TILE).min(settings.width) - x0,
+        (y0 + TILE).min(settings.height) - y0,
     );
-    let tw = x1 - x0;
     let slots = sensor.slots();
-    let pixels = (tw * (y1 - y0)) as usize;
+    let pixels = (tw * th) as usize;
     // Sized for the tile: lanes finish their pixels out of order.
     let mut out = TileOut {
         means: vec![0.0; pixels * slots],
@@ -66,7 +68,63 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
         spp: vec![0; pixels],
         counts: TileCounts::default(),
     };
-    let spp = settings.spp;
+    let seed = settings.seed;
+    let Some(ad) = &settings.adaptive else {
+        let mut fixed = Fixed::<SE> {
+            seed,
+            spp: settings.spp,
+        };
+        run::<N, W, SE, _>(a, &mut fixed, &mut out);
+        return out;
+    };
+    let judged = adaptive::target_slots(ad, sensor);
+    let pilot_pass = |seed| Pilots {
+        seed,
+        min: ad.min,
+        sums: (0..pixels).map(|_| Sums::new(slots, true)).collect(),
+    };
+    let mut pilots = pilot_pass(seed);
+    run::<N, W, true, _>(a, &mut pilots, &mut out);
+    let near = passes::counts(ad, settings.sampler, &pilots.pilots(&judged), (tw, th));
+    let mut own = None;
+    if near.iter().any(Option::is_none) {
+        // A pixel alone in its tile: a pilot of its own from a stream of its own, discarded.
+        let mut p = pilot_pass(adaptive::pilot_seed(seed));
+        run::<N, W, true, _>(a, &mut p, &mut out);
+        own = Some(p.sums);
+    }
+    let counts = near
+        .iter()
+        .enumerate()
+        .map(|(p, c)| match (c, &own) {
+            (Some(c), _) => *c,
+            (None, Some(o)) => {
+                let s = &o[p];
+                adaptive::count(ad, settings.sampler, ad.min, &s.acc, &s.acc2, &judged)
+            }
+            (None, None) => unreachable!("own pilots are drawn where a count is missing"),
+        })
+        .collect();
+    let mut rest = Rest::<SE> {
+        seed,
+        min: ad.min,
+        counts,
+        pilots: pilots.sums,
+    };
+    run::<N, W, SE, _>(a, &mut rest, &mut out);
+    out
+}
+
+/// One pass of the tile at (x0, y0) in packets of W paths (`SQ`: sums of squares too).
+#[inline(always)]
+fn run<const N: usize, const W: usize, const SQ: bool, P: Pass>(
+    a: TileArgs,
+    pass: &mut P,
+    out: &mut TileOut,
+) {
+    let (scene, settings, sensor, progress, x0, y0) = a;
+    let tw = (x0 + TILE).min(settings.width) - x0;
+    let pixels = out.spp.len();
     let clamp = settings.path.clamp.unwrap_or(f32::INFINITY);
     let max_depth = match settings.path.max_depth {
         d if d < 0 => u32::MAX,
@@ -78,8 +136,9 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
         busy: false,
         pixel: None,
         next: 0,
-        sums: Sums::new(slots, SE),
-        sampler: PixelSampler::new(settings.sampler, settings.seed, 0),
+        to: 0,
+        sums: Sums::new(sensor.slots(), SQ),
+        sampler: PixelSampler::new(settings.sampler, pass.seed(), 0),
         wl: placeholder_wl,
         ray: Ray::new(Vec3::ZERO, Vec3::Z),
         path: Path::start(Vec3::ZERO, n_emitters, Dispersion::default()),
@@ -97,49 +156,52 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             countdown = super::super::CHECK_EVERY;
             progress(0);
         }
-        // Refill: an idle lane starts its pixel's next sample; once the pixel has all its
-        // samples it is finished and the lane takes the tile's next pixel.
+        // Refill: an idle lane starts its pixel's next sample; once the pixel has the pass's
+        // samples it is handed to the pass and the lane takes the tile's next pixel.
         for lane in lanes.iter_mut().filter(|l| !l.busy) {
-            loop {
-                if lane.pixel.is_none() || lane.next == spp {
-                    if let Some(p) = lane.pixel.take() {
-                        finish_pixel_at::<SE>(&lane.sums, spp, &mut out, p);
-                        out.counts.samples += spp as u64;
-                        lane.sums.clear();
+            let p = loop {
+                match lane.pixel {
+                    Some(p) if lane.next < lane.to => break Some(p),
+                    Some(p) => {
+                        pass.end(p, &lane.sums, out);
+                        lane.pixel = None;
                     }
-                    if next_pixel == pixels {
-                        break;
+                    None if next_pixel == pixels => break None,
+                    None => {
+                        let p = next_pixel;
+                        next_pixel += 1;
+                        let (from, to) = pass.range(p);
+                        out.counts.samples += to.saturating_sub(from) as u64;
+                        pass.begin(p, &mut lane.sums);
+                        let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
+                        let pixel = y as u64 * settings.width as u64 + x as u64;
+                        lane.sampler.reset(settings.sampler, pass.seed(), pixel);
+                        (lane.pixel, lane.next, lane.to) = (Some(p), from, to);
                     }
-                    let p = next_pixel;
-                    next_pixel += 1;
-                    let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
-                    let pixel = y as u64 * settings.width as u64 + x as u64;
-                    lane.sampler.reset(settings.sampler, settings.seed, pixel);
-                    lane.pixel = Some(p);
-                    lane.next = 0;
                 }
-                let p = lane.pixel.unwrap_or_default();
-                let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
-                let sampler = &mut lane.sampler;
-                sampler.start(lane.next);
-                lane.next += 1;
-                let offset = settings.filter.sample(sampler.next_2d());
-                let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
-                lane.wl = settings.wavelengths.sample::<N>(sampler.next_1d());
-                lane.ray = scene.camera_ray(film, y, sampler);
-                lane.path = Path::start(lane.ray.o, n_emitters, settings.dispersion);
-                if max_depth == 0 {
-                    // The path ends at the camera: a zero sample.
-                    lane.finish::<SE>(sensor, clamp, &mut out.counts);
-                    continue;
-                }
-                lane.depth = 1;
-                lane.busy = true;
-                break;
+            };
+            let Some(p) = p else { continue };
+            let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
+            let sampler = &mut lane.sampler;
+            sampler.start(lane.next);
+            lane.next += 1;
+            let offset = settings.filter.sample(sampler.next_2d());
+            let film = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset;
+            lane.wl = settings.wavelengths.sample::<N>(sampler.next_1d());
+            lane.ray = scene.camera_ray(film, y, sampler);
+            lane.path = Path::start(lane.ray.o, n_emitters, settings.dispersion);
+            lane.depth = 1;
+            lane.busy = true;
+            if max_depth == 0 {
+                // The path ends at the camera: a zero sample (the lane refills next step).
+                lane.finish::<SQ>(sensor, clamp, &mut out.counts);
             }
         }
         if lanes.iter().all(|l| !l.busy) {
-            break; // every pixel finished
+            if lanes.iter().all(|l| l.pixel.is_none()) {
+                break; // every pixel handed to the pass
+            }
+            continue; // paths ended at the camera (max_depth 0): refill
         }
 
         // Trace: one ray per lane through the BVH.
@@ -162,14 +224,14 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
                         path.add_environment(&scene.emitters[e as usize], ray, wl);
                     }
                 }
-                lane.finish::<SE>(sensor, clamp, &mut out.counts);
+                lane.finish::<SQ>(sensor, clamp, &mut out.counts);
                 continue;
             };
             if let Some(e) = scene.shape_emitter[si.shape as usize] {
                 path.add_hit_emission(scene, e, si, ray.d, wl, show);
             }
             if lane.depth >= max_depth {
-                lane.finish::<SE>(sensor, clamp, &mut out.counts);
+                lane.finish::<SQ>(sensor, clamp, &mut out.counts);
                 continue;
             }
             let dim = CAMERA_DIMS + (lane.depth - 1).min(1 << 20) * BOUNCE_DIMS;
@@ -197,7 +259,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
                 };
                 match next {
                     Some(r) => lane.ray = r,
-                    None => lane.finish::<SE>(sensor, clamp, &mut out.counts),
+                    None => lane.finish::<SQ>(sensor, clamp, &mut out.counts),
                 }
             }
         }
@@ -211,7 +273,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
                 let path = &mut lane.path;
                 let q = (path.beta.max_value() * path.lane_w * path.eta * path.eta).min(0.95);
                 if lane.sampler.next_1d() >= q {
-                    lane.finish::<SE>(sensor, clamp, &mut out.counts);
+                    lane.finish::<SQ>(sensor, clamp, &mut out.counts);
                     continue;
                 }
                 lane.path.beta /= q;
@@ -219,5 +281,4 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             lane.depth += 1;
         }
     }
-    out
 }

@@ -24,6 +24,7 @@
 //! `unsupported` (stated in docs/performance.md, "Paths in lanes").
 
 mod kernel;
+mod passes;
 
 use crate::scene::Scene;
 use crate::sensor::Sensor;
@@ -114,12 +115,9 @@ pub fn auto_width() -> usize {
 
 /// The fallback rule: why `scene` under `settings` renders with the scalar integrator instead
 /// of the packet kernel, or None if it renders in packets. Everything else (every camera,
-/// material, emitter, texture, sensor, AOV layer, instancing, clamp, stderr) is in packets.
+/// material, emitter, texture, sensor, AOV layer, instancing, clamp, stderr, adaptive
+/// sampling) is in packets.
 pub fn unsupported(scene: &Scene, settings: &RenderSettings) -> Option<&'static str> {
-    if settings.adaptive.is_some() {
-        // A tile's pilots set each pixel's count before the pixel's other samples start.
-        return Some("adaptive sampling");
-    }
     if settings.path.caustics.is_some() {
         return Some("caustic light tracing");
     }
