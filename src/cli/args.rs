@@ -60,7 +60,7 @@ pub struct RenderArgs {
     pub accel: Option<crate::accel::AccelKind>,
     /// Paths per packet: 1, 4, 8, 16, `auto` (8 with AVX2, else 4) or `off` (the scalar
     /// integrator). Every width gives the same bits; scenes the packet kernel does not take
-    /// (caustic light tracing, dispersion) use the scalar integrator whatever this says.
+    /// (a dispersive material) use the scalar integrator whatever this says.
     #[arg(long, value_enum, default_value = "auto")]
     pub simd: crate::integrator::packet::Simd,
     /// Sampler (overrides the scene's sampler.kind).

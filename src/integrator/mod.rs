@@ -139,7 +139,8 @@ fn render_lanes<const N: usize, const SE: bool>(
             progress(0);
             let r = match packets {
                 Some(w) => {
-                    packet::render_tile::<N, SE>(w, scene, settings, sensor, progress, x0, y0)
+                    let c = caustics.as_ref();
+                    packet::render_tile::<N, SE>(w, scene, settings, sensor, c, progress, x0, y0)
                 }
                 None => render_tile::<N, SE>(
                     scene,

@@ -1,6 +1,6 @@
 //! The packet kernel's stages over W lanes. Each stage is the scalar integrator's code for one
-//! path (`integrator::path::radiance` without dispersion or caustics, which `unsupported`
-//! sends to the scalar integrator), run for every busy lane in turn, so every lane does the
+//! path (`integrator::path::radiance` without dispersion, which `unsupported` sends to the
+//! scalar integrator; with caustic light tracing's split where the render has it), run for every busy lane in turn, so every lane does the
 //! scalar integrator's operations in its order: the bits cannot depend on W.
 //!
 //! A lane owns a pixel until it has traced all its samples, one after another, and sums each
@@ -8,7 +8,7 @@
 //! no reordering between lanes. Its sampler's per-pixel scrambles are made once per pixel (a
 //! lane that hopped between pixels remade them at every hop).
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, BsdfLike};
 use crate::integrator::path::{Dispersion, Path};
 use crate::integrator::{adaptive, add_sample, Sums, TileCounts, TileOut, TILE};
 use crate::interaction::SurfaceInteraction;
@@ -32,6 +32,10 @@ struct Lane<'a, const N: usize> {
     to: u32,
     /// Its pixel's accumulators.
     sums: Sums,
+    /// Caustic light tracing's share, as `path::radiance` keeps it: the chain of smooth
+    /// vertices so far, and whether the current hit is glossy.
+    chain: Option<u32>,
+    glossy: bool,
     sampler: PixelSampler,
     wl: Wavelengths<N>,
     ray: Ray,
@@ -53,8 +57,10 @@ impl<const N: usize> Lane<'_, N> {
 /// Renders one tile in packets of W paths: one pass at a fixed spp, two under adaptive
 /// sampling (`passes`).
 #[inline(always)]
-pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) -> TileOut {
-    let (_, settings, sensor, _, x0, y0) = a;
+pub(super) fn tile<const N: usize, const W: usize, const SE: bool, const C: bool>(
+    a: TileArgs,
+) -> TileOut {
+    let (_, settings, sensor, _, _, x0, y0) = a;
     let (tw, th) = (
         (x0 + TILE).min(settings.width) - x0,
         (y0 + TILE).min(settings.height) - y0,
@@ -74,7 +80,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
             seed,
             spp: settings.spp,
         };
-        run::<N, W, SE, _>(a, &mut fixed, &mut out);
+        run::<N, W, SE, C, _>(a, &mut fixed, &mut out);
         return out;
     };
     let judged = adaptive::target_slots(ad, sensor);
@@ -84,13 +90,13 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
         sums: (0..pixels).map(|_| Sums::new(slots, true)).collect(),
     };
     let mut pilots = pilot_pass(seed);
-    run::<N, W, true, _>(a, &mut pilots, &mut out);
+    run::<N, W, true, C, _>(a, &mut pilots, &mut out);
     let near = passes::counts(ad, settings.sampler, &pilots.pilots(&judged), (tw, th));
     let mut own = None;
     if near.iter().any(Option::is_none) {
         // A pixel alone in its tile: a pilot of its own from a stream of its own, discarded.
         let mut p = pilot_pass(adaptive::pilot_seed(seed));
-        run::<N, W, true, _>(a, &mut p, &mut out);
+        run::<N, W, true, C, _>(a, &mut p, &mut out);
         own = Some(p.sums);
     }
     let counts = near
@@ -111,18 +117,21 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool>(a: TileArgs) 
         counts,
         pilots: pilots.sums,
     };
-    run::<N, W, SE, _>(a, &mut rest, &mut out);
+    run::<N, W, SE, C, _>(a, &mut rest, &mut out);
     out
 }
 
-/// One pass of the tile at (x0, y0) in packets of W paths (`SQ`: sums of squares too).
+/// One pass of the tile at (x0, y0) in packets of W paths (`SQ`: sums of squares too; `C`:
+/// the paths caustic light tracing takes are left out, as `path::radiance` leaves them).
 #[inline(always)]
-fn run<const N: usize, const W: usize, const SQ: bool, P: Pass>(
+fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
     a: TileArgs,
     pass: &mut P,
     out: &mut TileOut,
 ) {
-    let (scene, settings, sensor, progress, x0, y0) = a;
+    let (scene, settings, sensor, caustics, progress, x0, y0) = a;
+    // Known to be None in the copy without caustics, so its checks compile away there.
+    let caustics = if C { caustics } else { None };
     let tw = (x0 + TILE).min(settings.width) - x0;
     let pixels = out.spp.len();
     let clamp = settings.path.clamp.unwrap_or(f32::INFINITY);
@@ -138,6 +147,8 @@ fn run<const N: usize, const W: usize, const SQ: bool, P: Pass>(
         next: 0,
         to: 0,
         sums: Sums::new(sensor.slots(), SQ),
+        chain: None,
+        glossy: false,
         sampler: PixelSampler::new(settings.sampler, pass.seed(), 0),
         wl: placeholder_wl,
         ray: Ray::new(Vec3::ZERO, Vec3::Z),
@@ -191,6 +202,7 @@ fn run<const N: usize, const W: usize, const SQ: bool, P: Pass>(
             lane.ray = scene.camera_ray(film, y, sampler);
             lane.path = Path::start(lane.ray.o, n_emitters, settings.dispersion);
             lane.depth = 1;
+            lane.chain = None;
             lane.busy = true;
             if max_depth == 0 {
                 // The path ends at the camera: a zero sample (the lane refills next step).
@@ -216,18 +228,23 @@ fn run<const N: usize, const W: usize, const SQ: bool, P: Pass>(
             if !lane.busy {
                 continue;
             }
-            let (ray, path, wl) = (&lane.ray, &mut lane.path, &lane.wl);
+            let (ray, path, wl, chain) = (&lane.ray, &mut lane.path, &lane.wl, lane.chain);
             let show = lane.depth > 1 || !settings.path.hide_emitters;
             let Some(si) = hit else {
                 if show {
                     for &e in &scene.environment {
+                        if matches!((caustics, chain), (Some(c), Some(1..)) if c.takes(e, ray.d)) {
+                            continue;
+                        }
                         path.add_environment(&scene.emitters[e as usize], ray, wl);
                     }
                 }
                 lane.finish::<SQ>(sensor, clamp, &mut out.counts);
                 continue;
             };
-            if let Some(e) = scene.shape_emitter[si.shape as usize] {
+            if let Some(e) = scene.shape_emitter[si.shape as usize].filter(
+                |&e| !matches!((caustics, chain), (Some(c), Some(1..)) if c.takes(e, ray.d)),
+            ) {
                 path.add_hit_emission(scene, e, si, ray.d, wl, show);
             }
             if lane.depth >= max_depth {
@@ -238,6 +255,7 @@ fn run<const N: usize, const W: usize, const SQ: bool, P: Pass>(
             lane.sampler.set_dimension(dim);
             let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
             material.fill_bsdf(si, si.frame.to_local(-ray.d), wl, &mut lane.bsdf);
+            lane.glossy = caustics.is_some_and(|c| lane.bsdf.glossy(c.max_roughness()));
         }
 
         // Scatter: one pass per kind of BSDF, each over the lanes holding that kind.
@@ -248,17 +266,32 @@ fn run<const N: usize, const W: usize, const SQ: bool, P: Pass>(
                 };
                 let (ray, path, wl, sampler) =
                     (&lane.ray, &mut lane.path, &lane.wl, &mut lane.sampler);
+                // A glossy vertex continuing the chain leaves its emitter samples of the light
+                // tracer's sources to it.
+                let skip = match lane.chain {
+                    Some(_) if lane.glossy && lane.depth >= 2 => caustics,
+                    _ => None,
+                };
                 let next = match (&lane.bsdf, diffuse_pass) {
                     (Bsdf::Diffuse(d), true) => {
-                        path.scatter::<false>(d, si, -ray.d, scene, wl, sampler, None)
+                        path.scatter::<false>(d, si, -ray.d, scene, wl, sampler, skip)
                     }
                     (Bsdf::Mixture(m), false) => {
-                        path.scatter::<false>(m, si, -ray.d, scene, wl, sampler, None)
+                        path.scatter::<false>(m, si, -ray.d, scene, wl, sampler, skip)
                     }
                     _ => continue,
                 };
                 match next {
-                    Some(r) => lane.ray = r,
+                    Some(r) => {
+                        lane.ray = r;
+                        if caustics.is_some() {
+                            lane.chain = match (lane.depth, lane.chain) {
+                                (1, _) if !path.prev_delta && !lane.glossy => Some(0),
+                                (2.., Some(k)) if path.prev_delta || lane.glossy => Some(k + 1),
+                                _ => None,
+                            };
+                        }
+                    }
                     None => lane.finish::<SQ>(sensor, clamp, &mut out.counts),
                 }
             }

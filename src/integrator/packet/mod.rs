@@ -29,6 +29,7 @@ mod passes;
 use crate::scene::Scene;
 use crate::sensor::Sensor;
 
+use super::caustics::Caustics;
 use super::{RenderSettings, TileOut};
 
 /// `--simd`: the packet width, or the scalar integrator.
@@ -116,11 +117,8 @@ pub fn auto_width() -> usize {
 /// The fallback rule: why `scene` under `settings` renders with the scalar integrator instead
 /// of the packet kernel, or None if it renders in packets. Everything else (every camera,
 /// material, emitter, texture, sensor, AOV layer, instancing, clamp, stderr, adaptive
-/// sampling) is in packets.
-pub fn unsupported(scene: &Scene, settings: &RenderSettings) -> Option<&'static str> {
-    if settings.path.caustics.is_some() {
-        return Some("caustic light tracing");
-    }
+/// sampling, caustic light tracing's camera paths) is in packets.
+pub fn unsupported(scene: &Scene, _settings: &RenderSettings) -> Option<&'static str> {
     if scene.materials.iter().any(|m| m.dispersive()) {
         // Spectral MIS reweights a path's wavelengths at each dispersive event.
         return Some("a dispersive material");
@@ -146,29 +144,42 @@ pub fn describe(scene: &Scene, settings: &RenderSettings) -> String {
 }
 
 /// Renders the tile at (x0, y0) in packets of `w` paths (`w` as `width` gave it).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn render_tile<const N: usize, const SE: bool>(
     w: usize,
     scene: &Scene,
     settings: &RenderSettings,
     sensor: &Sensor,
+    caustics: Option<&Caustics>,
     progress: &(dyn Fn(u64) + Sync),
     x0: u32,
     y0: u32,
 ) -> TileOut {
-    let a = (scene, settings, sensor, progress, x0, y0);
+    let a = (scene, settings, sensor, caustics, progress, x0, y0);
+    // Caustic light tracing's split chosen here, so each copy of the kernel is compiled (and
+    // inlined) on its own, and a render without caustics runs the code it ran before them.
+    match caustics {
+        None => tile::<N, SE, false>(w, a),
+        Some(_) => tile::<N, SE, true>(w, a),
+    }
+}
+
+/// `render_tile` at width `w`, with (`C`) or without caustic light tracing's split.
+#[inline(always)]
+fn tile<const N: usize, const SE: bool, const C: bool>(w: usize, a: TileArgs) -> TileOut {
     match w {
         #[cfg(target_arch = "x86_64")]
         16 if runs(16) => {
             // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { tile_avx512::<N, SE>(a) }
+            unsafe { tile_avx512::<N, SE, C>(a) }
         }
         #[cfg(target_arch = "x86_64")]
         8 if runs(8) => {
             // SAFETY: the CPU has AVX2 (checked just above).
-            unsafe { tile_avx2::<N, SE>(a) }
+            unsafe { tile_avx2::<N, SE, C>(a) }
         }
-        4 => kernel::tile::<N, 4, SE>(a),
-        1 => kernel::tile::<N, 1, SE>(a),
+        4 => kernel::tile::<N, 4, SE, C>(a),
+        1 => kernel::tile::<N, 1, SE, C>(a),
         w => panic!("packet width {w} is not available here (Simd::check lets it through only where it runs)"),
     }
 }
@@ -177,6 +188,7 @@ type TileArgs<'a> = (
     &'a Scene,
     &'a RenderSettings,
     &'a Sensor,
+    Option<&'a Caustics<'a>>,
     &'a (dyn Fn(u64) + Sync),
     u32,
     u32,
@@ -185,13 +197,13 @@ type TileArgs<'a> = (
 /// The kernel at W = 8, compiled for AVX2 (its inlined stages use 256-bit registers).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn tile_avx2<const N: usize, const SE: bool>(a: TileArgs) -> TileOut {
-    kernel::tile::<N, 8, SE>(a)
+fn tile_avx2<const N: usize, const SE: bool, const C: bool>(a: TileArgs) -> TileOut {
+    kernel::tile::<N, 8, SE, C>(a)
 }
 
 /// The kernel at W = 16, compiled for AVX-512F.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn tile_avx512<const N: usize, const SE: bool>(a: TileArgs) -> TileOut {
-    kernel::tile::<N, 16, SE>(a)
+fn tile_avx512<const N: usize, const SE: bool, const C: bool>(a: TileArgs) -> TileOut {
+    kernel::tile::<N, 16, SE, C>(a)
 }
