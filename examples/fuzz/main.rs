@@ -53,6 +53,9 @@ fn main() {
         }
         i += 2;
     }
+    // Absolute, as the oracle expects every path of a case to be (a relative `out` made every
+    // refusal a "broken" finding: its message names the file as given).
+    let out = std::path::absolute(&out).expect("the current directory");
     let bin = bin.unwrap_or_else(|| repo.join("target/release/prism"));
     let seeds = engine::load_seeds(&repo);
     println!(
