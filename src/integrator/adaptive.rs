@@ -139,6 +139,23 @@ pub fn count_from<'a>(
     })
 }
 
+/// Each pixel's count from its neighbours' pilots in a `tw` × `th` tile; None for a pixel
+/// with no neighbour (a 1×1 tile), whose count needs a pilot of its own.
+pub fn counts(
+    a: &AdaptiveSpp,
+    kind: SamplerKind,
+    pilots: &[Pilot],
+    (tw, th): (u32, u32),
+) -> Vec<Option<u32>> {
+    (0..tw * th)
+        .map(|i| {
+            let (cx, cy) = (i % tw, i / tw);
+            let near = neighbours(cx, cy, tw, th).map(|(nx, ny)| &pilots[(ny * tw + nx) as usize]);
+            count_from(a, kind, near)
+        })
+        .collect()
+}
+
 /// `count_from` one pilot of `n` samples given by its per-slot sums and sums of squares.
 pub fn count(
     a: &AdaptiveSpp,

@@ -275,12 +275,10 @@ fn adaptive_tile<const N: usize, const SE: bool>(
         .iter()
         .map(|s| adaptive::Pilot::of(a.min, &s.acc, &s.acc2, &judged))
         .collect();
+    let counts = adaptive::counts(a, settings.sampler, &pilots, (tw, th));
     for (i, s) in sums.iter_mut().enumerate() {
         let (x, y) = at(i);
-        let (cx, cy) = (i as u32 % tw, i as u32 / tw);
-        let near =
-            adaptive::neighbours(cx, cy, tw, th).map(|(nx, ny)| &pilots[(ny * tw + nx) as usize]);
-        let n = match adaptive::count_from(a, settings.sampler, near) {
+        let n = match counts[i] {
             Some(n) => n,
             // A lone pixel (a 1×1 tile): a pilot of its own from a stream of its own,
             // discarded.

@@ -217,23 +217,36 @@ mod tests {
         us
     }
 
+    /// For each size n: random weights; mostly zero (cell k nonzero where k mod p = r, for
+    /// `(p, r) = sparse`); and one spike at n / `spike` holding nearly everything.
+    fn random_tables(
+        sizes: impl IntoIterator<Item = usize>,
+        (p, r): (usize, usize),
+        spike: usize,
+        rnd: &mut impl FnMut() -> f32,
+    ) -> Vec<Vec<f32>> {
+        let mut tables = Vec::new();
+        for n in sizes {
+            tables.push((0..n).map(|_| rnd()).collect());
+            tables.push(
+                (0..n)
+                    .map(|k| if k % p == r { rnd() } else { 0.0 })
+                    .collect(),
+            );
+            let mut s: Vec<f32> = (0..n).map(|_| rnd() * 1e-6).collect();
+            s[n / spike] = 1e4;
+            tables.push(s);
+        }
+        tables
+    }
+
     /// The branch-free count of a small table gives `partition_point`'s index for every u:
     /// tables of 1 to 15 cells, with zero cells, all zero, and one cell holding nearly all.
     #[test]
     fn small_count_is_the_binary_search() {
         let mut rnd = uniforms();
         let mut tables: Vec<Vec<f32>> = vec![vec![1.0], vec![0.0; 3], vec![1.0, 0.0, 3.0]];
-        for n in 1..GUIDED {
-            tables.push((0..n).map(|_| rnd()).collect());
-            tables.push(
-                (0..n)
-                    .map(|k| if k % 3 == 1 { rnd() } else { 0.0 })
-                    .collect(),
-            );
-            let mut spike: Vec<f32> = (0..n).map(|_| rnd() * 1e-6).collect();
-            spike[n / 2] = 1e4;
-            tables.push(spike);
-        }
+        tables.extend(random_tables(1..GUIDED, (3, 1), 2, &mut rnd));
         for w in &tables {
             let d = Distribution1D::new(w);
             assert!(
@@ -255,18 +268,8 @@ mod tests {
     fn guided_find_is_the_binary_search() {
         let mut rnd = uniforms();
         let mut tables: Vec<Vec<f32>> = vec![vec![0.0; 40], vec![1.0; 16], vec![1.0; 1000]];
-        for n in [16, 17, 63, 128, 1000, 4097] {
-            tables.push((0..n).map(|_| rnd()).collect());
-            // Mostly zero, a few cells, and one spike holding nearly everything.
-            tables.push(
-                (0..n)
-                    .map(|k| if k % 7 == 3 { rnd() } else { 0.0 })
-                    .collect(),
-            );
-            let mut spike: Vec<f32> = (0..n).map(|_| rnd() * 1e-6).collect();
-            spike[n / 3] = 1e4;
-            tables.push(spike);
-        }
+        let sizes = [16, 17, 63, 128, 1000, 4097];
+        tables.extend(random_tables(sizes, (7, 3), 3, &mut rnd));
         for w in &tables {
             let d = Distribution1D::new(w);
             assert!(!d.guide.is_empty(), "{} cells are guided", w.len());

@@ -19,18 +19,10 @@ pub(super) struct Splat<const N: usize> {
 
 /// The splats of one chunk of light paths, in path order, and (for squares) where each path
 /// with splats starts.
+#[derive(Default)]
 pub(super) struct Chunk<const N: usize> {
     pub(super) splats: Vec<Splat<N>>,
     pub(super) starts: Vec<u32>,
-}
-
-impl<const N: usize> Default for Chunk<N> {
-    fn default() -> Self {
-        Chunk {
-            splats: Vec::new(),
-            starts: Vec::new(),
-        }
-    }
 }
 
 /// Per pixel and slot: the sum of the splats and, with squares, of each path's squared

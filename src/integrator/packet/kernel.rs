@@ -1,7 +1,8 @@
 //! The packet kernel's stages over W lanes. Each stage is the scalar integrator's code for one
 //! path (`integrator::path::radiance` without dispersion, which `unsupported` sends to the
-//! scalar integrator; with caustic light tracing's split where the render has it), run for every busy lane in turn, so every lane does the
-//! scalar integrator's operations in its order: the bits cannot depend on W.
+//! scalar integrator; with caustic light tracing's split where the render has it), run for
+//! every busy lane in turn, so every lane does the scalar integrator's operations in its
+//! order: the bits cannot depend on W.
 //!
 //! A lane owns a pixel until it has traced all its samples, one after another, and sums each
 //! into the pixel's accumulators as it finishes: in sample order, as the scalar loop does, with
@@ -18,15 +19,16 @@ use crate::sensor::Sensor;
 use crate::spectrum::Wavelengths;
 use glam::{Vec2, Vec3};
 
-use super::passes::{self, Fixed, Pass, Pilots, Rest};
+use super::passes::{Fixed, Pass, Pilots, Rest};
 use super::TileArgs;
 
 /// One lane: the pixel it owns, and the path it traces.
 struct Lane<'a, const N: usize> {
     /// True while it traces a path.
     busy: bool,
-    /// The pixel it owns (index in the tile), if any.
+    /// The pixel it owns (index in the tile), if any, and its (x, y) in the image.
     pixel: Option<usize>,
+    xy: (u32, u32),
     /// Its pixel's next sample to start, and the end of the pass's samples of it.
     next: u32,
     to: u32,
@@ -91,7 +93,7 @@ pub(super) fn tile<const N: usize, const W: usize, const SE: bool, const C: bool
     };
     let mut pilots = pilot_pass(seed);
     run::<N, W, true, C, _>(a, &mut pilots, &mut out);
-    let near = passes::counts(ad, settings.sampler, &pilots.pilots(&judged), (tw, th));
+    let near = adaptive::counts(ad, settings.sampler, &pilots.pilots(&judged), (tw, th));
     let mut own = None;
     if near.iter().any(Option::is_none) {
         // A pixel alone in its tile: a pilot of its own from a stream of its own, discarded.
@@ -144,6 +146,7 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
     let mut lanes: [Lane<N>; W] = std::array::from_fn(|_| Lane {
         busy: false,
         pixel: None,
+        xy: (0, 0),
         next: 0,
         to: 0,
         sums: Sums::new(sensor.slots(), SQ),
@@ -170,14 +173,14 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
         // Refill: an idle lane starts its pixel's next sample; once the pixel has the pass's
         // samples it is handed to the pass and the lane takes the tile's next pixel.
         for lane in lanes.iter_mut().filter(|l| !l.busy) {
-            let p = loop {
+            let started = loop {
                 match lane.pixel {
-                    Some(p) if lane.next < lane.to => break Some(p),
+                    Some(_) if lane.next < lane.to => break true,
                     Some(p) => {
                         pass.end(p, &lane.sums, out);
                         lane.pixel = None;
                     }
-                    None if next_pixel == pixels => break None,
+                    None if next_pixel == pixels => break false,
                     None => {
                         let p = next_pixel;
                         next_pixel += 1;
@@ -187,12 +190,14 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
                         let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
                         let pixel = y as u64 * settings.width as u64 + x as u64;
                         lane.sampler.reset(settings.sampler, pass.seed(), pixel);
-                        (lane.pixel, lane.next, lane.to) = (Some(p), from, to);
+                        (lane.pixel, lane.xy, lane.next, lane.to) = (Some(p), (x, y), from, to);
                     }
                 }
             };
-            let Some(p) = p else { continue };
-            let (x, y) = (x0 + p as u32 % tw, y0 + p as u32 / tw);
+            if !started {
+                continue;
+            }
+            let (x, y) = lane.xy;
             let sampler = &mut lane.sampler;
             sampler.start(lane.next);
             lane.next += 1;

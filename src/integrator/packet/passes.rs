@@ -4,9 +4,8 @@
 //! it is unbiased): every pixel's pilot, then each pixel's samples from `min` up to the count
 //! its neighbours' pilots ask for, summed on top of its pilot.
 
-use crate::integrator::adaptive::{self, AdaptiveSpp, Pilot};
+use crate::integrator::adaptive::Pilot;
 use crate::integrator::{finish_pixel_at, Sums, TileOut};
-use crate::sampler::SamplerKind;
 
 /// One pass over a tile's pixels (indices in the tile, row-major).
 pub(super) trait Pass {
@@ -98,22 +97,4 @@ impl<const SE: bool> Pass for Rest<SE> {
     fn end(&mut self, p: usize, sums: &Sums, out: &mut TileOut) {
         finish_pixel_at::<SE>(sums, self.counts[p], out, p);
     }
-}
-
-/// Each pixel's count from its neighbours' pilots in a `tw` × `th` tile; None for a pixel
-/// with no neighbour (a 1×1 tile), whose count needs a pilot of its own.
-pub(super) fn counts(
-    a: &AdaptiveSpp,
-    kind: SamplerKind,
-    pilots: &[Pilot],
-    (tw, th): (u32, u32),
-) -> Vec<Option<u32>> {
-    (0..tw * th)
-        .map(|i| {
-            let (cx, cy) = (i % tw, i / tw);
-            let near = adaptive::neighbours(cx, cy, tw, th)
-                .map(|(nx, ny)| &pilots[(ny * tw + nx) as usize]);
-            adaptive::count_from(a, kind, near)
-        })
-        .collect()
 }
