@@ -5,6 +5,7 @@
 //! roughness along the tangent and bitangent; G = G1(wi) · G1(wo) (uncorrelated Smith).
 
 use crate::math::portable;
+use crate::math::turns::sin_cos_turns;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 use std::f32::consts::PI;
@@ -198,8 +199,7 @@ impl Microfacet {
         };
         let t2 = v.cross(t1);
         let r = u.x.sqrt();
-        let phi = 2.0 * PI * u.y;
-        let (sp, cp) = portable::sin_cos(phi);
+        let (sp, cp) = sin_cos_turns(u.y);
         let p1 = r * cp;
         let s = 0.5 * (1.0 + v.z);
         let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * sp;
@@ -214,7 +214,7 @@ impl Microfacet {
 fn beckmann_sample_unit_slopes(cos_t: f32, u: Vec2) -> Vec2 {
     if cos_t > 0.9999 {
         let r = (-portable::ln((1.0 - u.x).max(1e-12))).sqrt();
-        let (s, c) = portable::sin_cos(2.0 * PI * u.y);
+        let (s, c) = sin_cos_turns(u.y);
         return Vec2::new(r * c, r * s);
     }
     let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();

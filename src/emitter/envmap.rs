@@ -21,6 +21,7 @@
 
 use crate::math::distribution::Distribution1D;
 use crate::math::portable;
+use crate::math::turns::sin_cos_turns;
 use crate::spectrum::curve::Dense;
 use crate::spectrum::gamut::Gamut;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
@@ -238,8 +239,8 @@ impl EnvMap {
         let (x, pdf_x, _) = self.conditional[j].sample_continuous(u.x);
         // Cells start at the first column's centre.
         let uu = x + 0.5 / self.width as f32;
-        let (sin_t, cos_t) = portable::sin_cos(PI * v);
-        let (sin_p, cos_p) = portable::sin_cos(2.0 * PI * uu);
+        let (sin_t, cos_t) = sin_cos_turns(0.5 * v);
+        let (sin_p, cos_p) = sin_cos_turns(uu);
         if sin_t <= 0.0 {
             return None;
         }
@@ -336,8 +337,8 @@ impl EnvMap {
         // Cells start at the first column's centre, as in `sample`.
         let uu = (i as f32 + ux + 0.5) / w as f32;
         let v = (j as f32 + u.y) / rows as f32;
-        let (sin_t, cos_t) = portable::sin_cos(PI * v);
-        let (sin_p, cos_p) = portable::sin_cos(2.0 * PI * uu);
+        let (sin_t, cos_t) = sin_cos_turns(0.5 * v);
+        let (sin_p, cos_p) = sin_cos_turns(uu);
         if sin_t <= 0.0 {
             return None;
         }

@@ -10,6 +10,7 @@ pub mod rng;
 pub mod rotation;
 pub mod sampling;
 pub mod transform;
+pub mod turns;
 
 pub use frame::Frame;
 pub use transform::Transform;

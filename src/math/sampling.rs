@@ -1,9 +1,9 @@
 //! Warps from the unit square to the domains the renderer samples, each with its pdf.
 //! Every warp here has a chi-square test in `tests/sampling_chi2.rs`.
 
-use crate::math::portable;
+use crate::math::turns::{sin_cos_eighth, sin_cos_turns};
 use glam::{Vec2, Vec3};
-use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
+use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Concentric map of the square onto the unit disk (Shirley & Chiu 1997): area-preserving and
 /// low-distortion, so stratification in the square survives on the disk.
@@ -13,13 +13,20 @@ pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
     }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, FRAC_PI_4 * (o.y / o.x))
+    // The angle is π/4 · t with |t| ≤ 1, or π/2 minus that, whose sine and cosine are the
+    // other way round.
+    let steep = o.x.abs() <= o.y.abs();
+    let (r, t) = if steep {
+        (o.y, o.x / o.y)
     } else {
-        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
+        (o.x, o.y / o.x)
     };
-    let (s, c) = portable::sin_cos(theta);
-    Vec2::new(r * c, r * s)
+    let (s, c) = sin_cos_eighth(t);
+    if steep {
+        Vec2::new(r * s, r * c)
+    } else {
+        Vec2::new(r * c, r * s)
+    }
 }
 
 /// Cosine-weighted direction on the +z hemisphere (Malley's method).
@@ -40,7 +47,7 @@ pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
 pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let (s, c) = portable::sin_cos(2.0 * PI * u.y);
+    let (s, c) = sin_cos_turns(u.y);
     Vec3::new(r * c, r * s, z)
 }
 
@@ -53,7 +60,7 @@ pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     let omc = u.x * (1.0 - cos_max);
     let cos_t = 1.0 - omc;
     let sin_t = (omc * (2.0 - omc)).max(0.0).sqrt();
-    let (s, c) = portable::sin_cos(2.0 * PI * u.y);
+    let (s, c) = sin_cos_turns(u.y);
     Vec3::new(sin_t * c, sin_t * s, cos_t)
 }
 

@@ -4,6 +4,7 @@
 use super::{AreaSample, PrimHit, SurfacePoint};
 use crate::math::float::gamma;
 use crate::math::portable;
+use crate::math::turns::sin_cos_turns;
 use crate::math::{sampling, Frame};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -131,7 +132,7 @@ impl Sphere {
         let ratio = (sin2_t / (sin_max * sin_max)).min(1.0);
         let cos_a = (sin2_t / sin_max + cos_t * (1.0 - ratio).sqrt()).clamp(-1.0, 1.0);
         let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
-        let (sp, cp) = portable::sin_cos(2.0 * PI * u.y);
+        let (sp, cp) = sin_cos_turns(u.y);
         let local = Vec3::new(sin_a * cp, sin_a * sp, cos_a);
         let dir = -frame.to_world(local);
         let s = self.surface_at(self.center + dir * r);
