@@ -5,6 +5,7 @@ use crate::film::Film;
 use crate::math::portable;
 use crate::spectrum::color::{srgb_encode, XYZ_TO_SRGB};
 use glam::Vec3;
+use rayon::prelude::*;
 use std::path::Path;
 
 /// Writes an sRGB preview scaled by 2^`exposure` (atomically). Uses R, G, B if the film has
@@ -25,10 +26,12 @@ pub fn write(film: &Film, path: &Path, exposure: f32) -> Result<(), Error> {
         },
     };
     let scale = portable::exp2(exposure);
+    let encode = |v: f32| (srgb_encode(v * scale).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    // Over the threads: a `powf` per value, one thread's alone was 2% of a dataset frame.
     let bytes: Vec<u8> = rgb
-        .iter()
-        .flat_map(|c| c.to_array())
-        .map(|v| (srgb_encode(v * scale).clamp(0.0, 1.0) * 255.0 + 0.5) as u8)
+        .par_iter()
+        .with_min_len(1024)
+        .flat_map_iter(|c| c.to_array().map(encode))
         .collect();
     let img = image::RgbImage::from_raw(film.width, film.height, bytes)
         .expect("buffer matches the film size");
