@@ -63,6 +63,10 @@ pub struct RenderArgs {
     /// (a dispersive material) use the scalar integrator whatever this says.
     #[arg(long, value_enum, default_value = "auto")]
     pub simd: crate::integrator::packet::Simd,
+    /// The EXR's lossless compression (overrides the scene's film.exr_compression): `zip`
+    /// (default), `piz`, `rle` or `none` (the fastest to write).
+    #[arg(long, value_enum)]
+    pub exr_compression: Option<crate::config::ExrCompression>,
     /// Sampler (overrides the scene's sampler.kind).
     #[arg(long, value_enum)]
     pub sampler: Option<crate::sampler::SamplerKind>,

@@ -160,6 +160,9 @@ fn render(args: &RenderArgs) -> Result<(), Error> {
         if let Some(kind) = args.sampler {
             cfg.sampler.kind = kind;
         }
+        if let Some(c) = args.exr_compression {
+            cfg.film.exr_compression = c;
+        }
         if let Some(n) = args.wavelengths {
             cfg.spectral.wavelengths = n;
         }

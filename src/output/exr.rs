@@ -3,16 +3,22 @@
 //! separator and the `spectralLayoutVersion` / `emissiveUnits` header attributes, so
 //! colour-science's `read_spectral_image_Fichet2021` reads them.
 
+use crate::config::ExrCompression;
 use crate::error::Error;
 use crate::film::Film;
 use exr::prelude::{
-    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, ImageAttributes,
-    IntegerBounds, Layer, LayerAttributes, Text, WritableImage,
+    AnyChannel, AnyChannels, AttributeValue, Compression, Encoding, FlatSamples, Image,
+    ImageAttributes, IntegerBounds, Layer, LayerAttributes, Text, WritableImage,
 };
 use std::path::Path;
 
 /// Writes `film` to `path` (atomically), with extra text header attributes `extra`.
-pub fn write(film: &Film, path: &Path, extra: &[(String, String)]) -> Result<(), Error> {
+pub fn write(
+    film: &Film,
+    path: &Path,
+    extra: &[(String, String)],
+    compression: ExrCompression,
+) -> Result<(), Error> {
     let size = (film.width as usize, film.height as usize);
     let channels: Vec<AnyChannel<FlatSamples>> = film
         .channels
@@ -44,7 +50,15 @@ pub fn write(film: &Film, path: &Path, extra: &[(String, String)]) -> Result<(),
     let layer = Layer::new(
         size,
         LayerAttributes::default(),
-        Encoding::SMALL_LOSSLESS,
+        Encoding {
+            compression: match compression {
+                ExrCompression::None => Compression::Uncompressed,
+                ExrCompression::Rle => Compression::RLE,
+                ExrCompression::Zip => Compression::ZIP16,
+                ExrCompression::Piz => Compression::PIZ,
+            },
+            ..Encoding::SMALL_LOSSLESS
+        },
         AnyChannels::sort(channels.into()),
     );
     let image = Image::empty(attrs).with_layer(layer);

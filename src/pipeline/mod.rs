@@ -143,7 +143,7 @@ pub fn write(job: &Job, r: &Rendered, files: &Files) -> Result<Vec<PathBuf>, Err
             e["channels"].to_string(),
         ));
     }
-    output::exr::write(&r.film, files.exr, &extra)?;
+    output::exr::write(&r.film, files.exr, &extra, job.config.film.exr_compression)?;
     let json = output::sidecar::path_for(files.exr);
     match files.sidecar {
         Sidecar::Render => output::sidecar::write(
