@@ -236,9 +236,14 @@ impl<'a> Caustics<'a> {
         let seed = hash3(settings.seed, 0xca05_71c5, 0);
         let mut next = 0;
         while next < chunks {
-            let batch: Vec<Chunk<N>> = (next..(next + BATCH).min(chunks))
+            // Indexed by their offset in the batch (a u64 range is not an indexed iterator).
+            let batch: Vec<Chunk<N>> = (0..(chunks - next).min(BATCH) as usize)
                 .into_par_iter()
-                .map(|c| {
+                // Every chunk its own job, as the camera pass's tiles: rayon otherwise runs a
+                // range of chunks as one leaf, and a thread finished early waits for it.
+                .with_max_len(1)
+                .map(|i| {
+                    let c = next + i as u64;
                     let mut out = Chunk::default();
                     for k in c * CHUNK..((c + 1) * CHUNK).min(paths) {
                         let start = out.splats.len();
