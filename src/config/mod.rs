@@ -181,7 +181,7 @@ impl ExrCompression {
     /// `Zip`: left out of serialized configs, so a dataset's identity (a hash of its config)
     /// is what it was before the option existed.
     pub fn is_default(&self) -> bool {
-        *self == ExrCompression::Zip
+        *self == ExrCompression::default()
     }
 }
 
@@ -191,7 +191,7 @@ impl Default for FilmConfig {
             width: 768,
             height: 576,
             filter: FilterConfig::default(),
-            exr_compression: ExrCompression::Zip,
+            exr_compression: ExrCompression::default(),
         }
     }
 }

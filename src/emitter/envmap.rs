@@ -21,7 +21,7 @@
 
 use crate::math::distribution::Distribution1D;
 use crate::math::portable;
-use crate::math::turns::{acos_half_turns, atan2_turns, sin_cos_turns};
+use crate::math::turns::{acos_half_turns, azimuth_turns, sin_cos_turns};
 use crate::spectrum::curve::Dense;
 use crate::spectrum::gamut::Gamut;
 use crate::spectrum::rgb2spec::{self, Sigmoid};
@@ -165,8 +165,7 @@ impl EnvMap {
     #[inline]
     fn uv(d: Vec3) -> Vec2 {
         // Angles in turns straight away (no libm atan2, acos or floor: 3% of an env-lit frame).
-        let u = atan2_turns(d.x, -d.z);
-        Vec2::new(if u < 0.0 { u + 1.0 } else { u }, acos_half_turns(d.y))
+        Vec2::new(azimuth_turns(d.x, -d.z), acos_half_turns(d.y))
     }
 
     /// Radiance arriving from world direction `d` (pointing away from the scene).

@@ -76,6 +76,18 @@ pub fn atan2_turns(y: f32, x: f32) -> f32 {
     }
 }
 
+/// `atan2_turns` moved to [0, 1]: an azimuth as a texture coordinate (1 only where a tiny
+/// negative angle rounds up).
+#[inline(always)]
+pub fn azimuth_turns(y: f32, x: f32) -> f32 {
+    let t = atan2_turns(y, x);
+    if t < 0.0 {
+        t + 1.0
+    } else {
+        t
+    }
+}
+
 /// acos(c) / π for c in [−1, 1] (a polar angle as a fraction of half a turn), as the angle of
 /// (c, √((1 − c)(1 + c))): accurate near the poles, where 1 − c² would cancel.
 #[inline(always)]

@@ -243,6 +243,17 @@ impl Sensor {
                     });
                 }
             };
+        // The XYZ, band and response slots, each a channel, gathered in one pass over the
+        // means: a pass per channel walked the whole buffer once per channel (50 ms,
+        // single-threaded, of a 1.3 s materials render with its 47 bands).
+        let gathered = self.response_base + self.layers.responses.len();
+        let mut columns: Vec<Vec<f32>> = (0..gathered).map(|_| Vec::with_capacity(n)).collect();
+        for px in means.chunks_exact(slots) {
+            for (c, &v) in columns.iter_mut().zip(&px[..gathered]) {
+                c.push(v);
+            }
+        }
+        let mut slot = |k: usize| std::mem::take(&mut columns[k]);
         let rgb_of = |space: RgbSpace| -> Vec<Vec3> {
             let m = space.from_xyz();
             (0..n).map(|i| m * xyz_at(i)).collect()
@@ -260,7 +271,7 @@ impl Sensor {
             for (c, name) in ["X", "Y", "Z"].iter().enumerate() {
                 channels.push(Channel {
                     name: name.to_string(),
-                    data: (0..n).map(|i| means[i * slots + c]).collect(),
+                    data: slot(c),
                 });
             }
         }
@@ -273,17 +284,6 @@ impl Sensor {
             );
         }
         let mut band_centers = Vec::new();
-        // The band and response slots, each a channel, gathered in one pass over the means:
-        // a pass per channel walked the whole buffer once per channel (50 ms, single-threaded,
-        // of a 1.3 s materials render with its 47 bands).
-        let gathered = XYZ_SLOTS..self.response_base + self.layers.responses.len();
-        let mut columns: Vec<Vec<f32>> = gathered.clone().map(|_| Vec::with_capacity(n)).collect();
-        for px in means.chunks_exact(slots) {
-            for (c, &v) in columns.iter_mut().zip(&px[gathered.clone()]) {
-                c.push(v);
-            }
-        }
-        let mut slot = |k: usize| std::mem::take(&mut columns[k - gathered.start]);
         // Once, not per name: it formats every centre (O(bands²) through band_name).
         let digits = self.name_digits();
         if let Some(b) = self.bands {

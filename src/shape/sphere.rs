@@ -3,7 +3,7 @@
 
 use super::{AreaSample, PrimHit, SurfacePoint};
 use crate::math::float::gamma;
-use crate::math::turns::{acos_half_turns, atan2_turns, sin_cos_turns};
+use crate::math::turns::{acos_half_turns, azimuth_turns, sin_cos_turns};
 use crate::math::{sampling, Frame};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -63,17 +63,13 @@ impl Sphere {
         let p = self.center + dir * self.radius;
         let p_error = gamma(5) * (self.center.abs() + (dir * self.radius).abs());
         let n = if self.flip { -dir } else { dir };
-        let phi = atan2_turns(dir.y, dir.x);
         let dpdu = Vec3::new(-dir.y, dir.x, 0.0);
         SurfacePoint {
             p,
             p_error,
             ng: n,
             frame: Frame::from_normal_tangent(n, dpdu),
-            uv: Vec2::new(
-                if phi < 0.0 { phi + 1.0 } else { phi },
-                acos_half_turns(dir.z),
-            ),
+            uv: Vec2::new(azimuth_turns(dir.y, dir.x), acos_half_turns(dir.z)),
         }
     }
 
