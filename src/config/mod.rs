@@ -159,17 +159,16 @@ pub struct FilmConfig {
 }
 
 /// Lossless EXR compression. Rendered floats carry noise in their low bits, which deflate
-/// cannot squeeze: on a 47-band render `Zip` saves 4% of the file for 0.36 s of CPU, `None`
-/// writes it in 0.01 s (docs/performance.md, "EXR compression"). Masks, ids and depth compress
-/// well, so `Zip` stays the default; a spectral dataset bought in frames per hour may choose
-/// `None`.
+/// cannot squeeze: on a 47-band render `Zip` (deflate level 1, `output::exr_zip`) saves 2% of
+/// the file for 0.06 s of CPU, `None` writes it in 0.01 s (docs/performance.md, "EXR
+/// compression"). Masks, ids and depth compress well, so `Zip` stays the default.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 pub enum ExrCompression {
     /// Uncompressed: the fastest to write and read, the largest file.
     None,
     /// Run lengths: cheap, gains only on flat channels (masks, ids).
     Rle,
-    /// Deflate on blocks of 16 rows (OpenEXR's ZIP).
+    /// Deflate on blocks of 16 rows (OpenEXR's ZIP), at deflate's fastest level.
     #[default]
     Zip,
     /// Wavelet and Huffman (OpenEXR's PIZ): smaller than `Zip` on noisy channels, faster to

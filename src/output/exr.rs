@@ -6,10 +6,13 @@
 use crate::config::ExrCompression;
 use crate::error::Error;
 use crate::film::Film;
+use exr::block::{enumerate_ordered_header_block_indices, UncompressedBlock};
+use exr::image::write::layers::{LayersWriter, WritableLayers};
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Compression, Encoding, FlatSamples, Image,
     ImageAttributes, IntegerBounds, Layer, LayerAttributes, Text, WritableImage,
 };
+use rayon::prelude::*;
 use std::path::Path;
 
 /// Writes `film` to `path` (atomically), with extra text header attributes `extra`.
@@ -63,10 +66,41 @@ pub fn write(
     );
     let image = Image::empty(attrs).with_layer(layer);
     super::write_atomic(path, |tmp| {
-        image.write().to_file(tmp).map_err(|e| e.to_string())?;
+        let mut bytes = encode(&image, compression).map_err(|e| e.to_string())?;
         // Same content, same bytes (the crate writes attributes in hash-map order).
-        let mut bytes = std::fs::read(tmp).map_err(|e| e.to_string())?;
         super::exr_header::sort_attributes(&mut bytes);
         std::fs::write(tmp, bytes).map_err(|e| e.to_string())
     })
+}
+
+/// The file's bytes: the crate's header and offset table, and the blocks compressed in
+/// parallel, ZIP by `exr_zip` (a faster deflate level than the crate's), the rest by the
+/// crate.
+fn encode<L: for<'a> WritableLayers<'a>>(
+    image: &Image<L>,
+    compression: ExrCompression,
+) -> exr::error::Result<Vec<u8>> {
+    let headers = image.write().infer_meta_data();
+    let layers = image.layer_data.create_writer(&headers);
+    let mut file = std::io::Cursor::new(Vec::new());
+    exr::block::write(&mut file, headers, true, |meta, writer| {
+        let blocks: Vec<_> = enumerate_ordered_header_block_indices(&meta.headers).collect();
+        let chunks: Vec<_> = blocks
+            .par_iter()
+            .with_max_len(1)
+            .map(|&(_, index)| {
+                let data = layers.extract_uncompressed_block(&meta.headers, index);
+                let block = UncompressedBlock { index, data };
+                match compression {
+                    ExrCompression::Zip => Ok(super::exr_zip::chunk(block)),
+                    _ => block.compress_to_chunk(&meta.headers),
+                }
+            })
+            .collect();
+        for ((i, _), chunk) in blocks.iter().zip(chunks) {
+            exr::block::writer::ChunksWriter::write_chunk(writer, *i, chunk?)?;
+        }
+        Ok(())
+    })?;
+    Ok(file.into_inner())
 }

@@ -4,6 +4,7 @@
 
 pub mod exr;
 pub mod exr_header;
+mod exr_zip;
 pub mod guard;
 pub mod interrupt;
 pub mod png;
