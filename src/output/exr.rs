@@ -65,8 +65,9 @@ pub fn write(
         AnyChannels::sort(channels.into()),
     );
     let image = Image::empty(attrs).with_layer(layer);
+    let raw = 4 * (size.0 * size.1) * (film.channels.len() + film.uint_channels.len());
     super::write_atomic(path, |tmp| {
-        let mut bytes = encode(&image, compression).map_err(|e| e.to_string())?;
+        let mut bytes = encode(&image, compression, raw).map_err(|e| e.to_string())?;
         // Same content, same bytes (the crate writes attributes in hash-map order).
         super::exr_header::sort_attributes(&mut bytes);
         std::fs::write(tmp, bytes).map_err(|e| e.to_string())
@@ -75,30 +76,36 @@ pub fn write(
 
 /// The file's bytes: the crate's header and offset table, and the blocks compressed in
 /// parallel, ZIP by `exr_zip` (a faster deflate level than the crate's), the rest by the
-/// crate.
+/// crate. `raw` (the pixels' bytes) sizes the buffer once.
 fn encode<L: for<'a> WritableLayers<'a>>(
     image: &Image<L>,
     compression: ExrCompression,
+    raw: usize,
 ) -> exr::error::Result<Vec<u8>> {
+    // Blocks compressed at once: enough to keep every thread busy, few enough that a large
+    // film's compressed copy is not held whole beside the file's bytes.
+    const BATCH: usize = 64;
     let headers = image.write().infer_meta_data();
     let layers = image.layer_data.create_writer(&headers);
-    let mut file = std::io::Cursor::new(Vec::new());
+    let mut file = std::io::Cursor::new(Vec::with_capacity(raw + (1 << 16)));
     exr::block::write(&mut file, headers, true, |meta, writer| {
         let blocks: Vec<_> = enumerate_ordered_header_block_indices(&meta.headers).collect();
-        let chunks: Vec<_> = blocks
-            .par_iter()
-            .with_max_len(1)
-            .map(|&(_, index)| {
-                let data = layers.extract_uncompressed_block(&meta.headers, index);
-                let block = UncompressedBlock { index, data };
-                match compression {
-                    ExrCompression::Zip => Ok(super::exr_zip::chunk(block)),
-                    _ => block.compress_to_chunk(&meta.headers),
-                }
-            })
-            .collect();
-        for ((i, _), chunk) in blocks.iter().zip(chunks) {
-            exr::block::writer::ChunksWriter::write_chunk(writer, *i, chunk?)?;
+        for batch in blocks.chunks(BATCH) {
+            let chunks: Vec<_> = batch
+                .par_iter()
+                .with_max_len(1)
+                .map(|&(_, index)| {
+                    let data = layers.extract_uncompressed_block(&meta.headers, index);
+                    let block = UncompressedBlock { index, data };
+                    match compression {
+                        ExrCompression::Zip => Ok(super::exr_zip::chunk(block)),
+                        _ => block.compress_to_chunk(&meta.headers),
+                    }
+                })
+                .collect();
+            for ((i, _), chunk) in batch.iter().zip(chunks) {
+                exr::block::writer::ChunksWriter::write_chunk(writer, *i, chunk?)?;
+            }
         }
         Ok(())
     })?;
