@@ -12,6 +12,7 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=spectra");
     host_cpu_cfgs();
+    warn_fused_builds();
     embed_spectra(&root.join("spectra"), &out.join("spectra_files.rs"));
     fit_rgb_table(&root, &out);
 }
@@ -30,6 +31,24 @@ fn host_cpu_cfgs() {
         if std::is_x86_feature_detected!("sse4.1") && std::is_x86_feature_detected!("ssse3") {
             println!("cargo:rustc-cfg=prism_host_sse41");
         }
+    }
+}
+
+/// A build with FMA enabled at compile time (`-C target-cpu=native` on most x86 CPUs of the
+/// last decade, `x86-64-v3`) renders other low bits: glam's SIMD matrix products fuse the
+/// multiply and the add there (measured: every channel of the Cornell box differs;
+/// docs/performance.md). The same bits on every node of a cluster hold for the default build,
+/// which chooses its AVX2 code at run time, so an FMA build says so where it is made.
+fn warn_fused_builds() {
+    let features = env::var("CARGO_CFG_TARGET_FEATURE").unwrap_or_default();
+    if env::var("CARGO_CFG_TARGET_ARCH").as_deref() == Ok("x86_64")
+        && features.split(',').any(|f| f == "fma")
+    {
+        println!(
+            "cargo:warning=prism built with FMA enabled (e.g. -C target-cpu=native): its renders \
+             differ in their lowest bits from the default build's; build without it for frames \
+             that match other machines bit for bit"
+        );
     }
 }
 
