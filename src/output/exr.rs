@@ -65,9 +65,8 @@ pub fn write(
         AnyChannels::sort(channels.into()),
     );
     let image = Image::empty(attrs).with_layer(layer);
-    let raw = 4 * (size.0 * size.1) * (film.channels.len() + film.uint_channels.len());
     super::write_atomic(path, |tmp| {
-        let mut bytes = encode(&image, compression, raw).map_err(|e| e.to_string())?;
+        let mut bytes = encode(&image, compression).map_err(|e| e.to_string())?;
         // Same content, same bytes (the crate writes attributes in hash-map order).
         super::exr_header::sort_attributes(&mut bytes);
         std::fs::write(tmp, bytes).map_err(|e| e.to_string())
@@ -76,17 +75,20 @@ pub fn write(
 
 /// The file's bytes: the crate's header and offset table, and the blocks compressed in
 /// parallel, ZIP by `exr_zip` (a faster deflate level than the crate's), the rest by the
-/// crate. `raw` (the pixels' bytes) sizes the buffer once.
+/// crate. The buffer is sized once, for the pixels uncompressed.
 fn encode<L: for<'a> WritableLayers<'a>>(
     image: &Image<L>,
     compression: ExrCompression,
-    raw: usize,
 ) -> exr::error::Result<Vec<u8>> {
     // Blocks compressed at once: enough to keep every thread busy, few enough that a large
     // film's compressed copy is not held whole beside the file's bytes.
     const BATCH: usize = 64;
     let headers = image.write().infer_meta_data();
     let layers = image.layer_data.create_writer(&headers);
+    let raw: usize = headers
+        .iter()
+        .map(|h| h.channels.bytes_per_pixel * h.layer_size.area())
+        .sum();
     let mut file = std::io::Cursor::new(Vec::with_capacity(raw + (1 << 16)));
     exr::block::write(&mut file, headers, true, |meta, writer| {
         let blocks: Vec<_> = enumerate_ordered_header_block_indices(&meta.headers).collect();
