@@ -73,8 +73,9 @@ fn step_away(v: f32, dir: f32) -> f32 {
     };
     // NaN (|bits| > ∞), and ±∞ moving outward, stay put; so does everything when dir is ±0
     // or NaN (neither above nor below zero).
+    // (`INF - 1` rather than `|bits| + 1`: the largest NaN's magnitude plus one overflows.)
     let dir_abs = dir_bits & ABS;
-    let keep = dir_abs == 0 || dir_abs > INF || (bits & ABS) + (step > 0) as i32 > INF;
+    let keep = dir_abs == 0 || dir_abs > INF || bits & ABS > INF - (step > 0) as i32;
     f32::from_bits(if keep { bits } else { stepped } as u32)
 }
 
@@ -130,6 +131,8 @@ mod tests {
             f32::INFINITY,
             f32::NEG_INFINITY,
             f32::NAN,
+            f32::from_bits(0x7fff_ffff),
+            f32::from_bits(0xffff_ffff),
             1.0,
             -1.0,
         ];
@@ -144,6 +147,7 @@ mod tests {
                 1e-30,
                 -1e-30,
                 f32::INFINITY,
+                f32::NEG_INFINITY,
                 f32::NAN,
             ] {
                 let want = if dir > 0.0 {
