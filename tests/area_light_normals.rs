@@ -43,7 +43,7 @@ fn sampled_normals_are_the_triangles_own() {
         let mut seen = vec![false; mesh.indices.len()];
         for _ in 0..20_000 {
             let u = Vec2::new(rng.next_f32(), rng.next_f32());
-            let s = light.sample_area(u, &shape);
+            let s = light.sample_area_uv(u, &shape).0;
             // The triangle whose plane holds the point.
             let distance = |i: usize| {
                 let [a, b, c] = mesh.indices[i].map(|k| mesh.positions[k as usize]);

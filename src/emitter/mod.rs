@@ -7,6 +7,7 @@ mod area;
 mod envmap;
 mod moving;
 mod moving_area;
+mod parallelogram;
 mod radiance;
 mod spot;
 
