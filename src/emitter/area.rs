@@ -124,15 +124,16 @@ impl AreaEmitter {
             Shape::Mesh(m) => (0..m.indices.len()).map(|i| m.winding_normal(i)).collect(),
             _ => Vec::new(),
         };
+        let area = shape.area();
         let parallelogram = match (shape, &radiance) {
-            (Shape::Mesh(m), AreaRadiance::Uniform(_)) => Parallelogram::of(m),
+            (Shape::Mesh(m), AreaRadiance::Uniform(_)) => Parallelogram::of(m, 1.0 / area),
             _ => None,
         };
         Self {
             shape: shape_index,
             radiance,
             triangles,
-            area: shape.area(),
+            area,
             tri_pdf,
             normals,
             parallelogram,
@@ -188,7 +189,7 @@ impl AreaEmitter {
     pub fn sample_area_uv(&self, u: Vec2, shape: &Shape) -> (AreaSample, Vec2) {
         if let Some(q) = &self.parallelogram {
             // Inline: about 40 instructions, a third of them the call's own out of line.
-            return (q.sample(u, 1.0 / self.area), Vec2::ZERO);
+            return (q.sample(u), Vec2::ZERO);
         }
         if self.tri_pdf.is_empty() {
             (self.sample_area(u, shape), Vec2::ZERO)

@@ -27,12 +27,15 @@ pub(super) struct Parallelogram {
     n1: Vec3,
     /// How far the second triangle's free corner may lie from the parallelogram's.
     fold_error: Vec3,
+    /// 1 / the mesh's area, kept so a sample divides nothing.
+    pdf_area: f32,
 }
 
 impl Parallelogram {
     /// The parallelogram a two-triangle mesh forms, or None if it forms none (within a few
-    /// ulps of its coordinates: anything farther would be sampled off the light).
-    pub(super) fn of(m: &Mesh) -> Option<Self> {
+    /// ulps of its coordinates: anything farther would be sampled off the light); its points
+    /// have density `pdf_area`.
+    pub(super) fn of(m: &Mesh, pdf_area: f32) -> Option<Self> {
         let [t0, t1] = m.indices.as_slice() else {
             return None;
         };
@@ -42,9 +45,9 @@ impl Parallelogram {
         }
         // The vertex of each triangle that the other lacks; the two others are the diagonal.
         let free = |a: &[u32; 3], b: &[u32; 3]| {
-            let k: Vec<usize> = (0..3).filter(|&k| !b.contains(&a[k])).collect();
-            match k.as_slice() {
-                [k] => Some(*k),
+            let mut k = (0..3).filter(|&k| !b.contains(&a[k]));
+            match (k.next(), k.next()) {
+                (Some(k), None) => Some(k),
                 _ => None,
             }
         };
@@ -71,12 +74,13 @@ impl Parallelogram {
             n0,
             n1,
             fold_error: gap,
+            pdf_area,
         })
     }
 
-    /// A uniform point, with density `pdf_area` (1 / the mesh's area).
+    /// A uniform point (density 1 / the mesh's area).
     #[inline(always)]
-    pub(super) fn sample(&self, u: Vec2, pdf_area: f32) -> AreaSample {
+    pub(super) fn sample(&self, u: Vec2) -> AreaSample {
         let b0 = 1.0 - u.x - u.y;
         // Barycentric form, as `tri_surface::point_with_normal` computes a point (b0 < 0 on
         // the second half, which the error bound's absolute values cover).
@@ -90,7 +94,7 @@ impl Parallelogram {
             p,
             p_error,
             n: if b0 >= 0.0 { self.n0 } else { self.n1 },
-            pdf_area,
+            pdf_area: self.pdf_area,
         }
     }
 }
@@ -138,7 +142,7 @@ mod tests {
                 *q = Vec3::from_array(q.to_array().map(|c| f32::from_bits(c.to_bits() + 40)));
                 assert_ne!(mesh.winding_normal(0), mesh.winding_normal(1));
             }
-            let par = Parallelogram::of(&mesh).expect("a rectangle is a parallelogram");
+            let par = Parallelogram::of(&mesh, 1.0).expect("a rectangle is a parallelogram");
             let (a0, a1) = (mesh.triangle_area(0), mesh.triangle_area(1));
             // In the plane, a point may miss the triangles by the fold's gap (as a fraction
             // of the shortest edge) and rounding.
@@ -148,7 +152,7 @@ mod tests {
             let n = 200_000;
             for _ in 0..n {
                 let u = Vec2::new(rng.next_f32(), rng.next_f32());
-                let s = par.sample(u, 1.0);
+                let s = par.sample(u);
                 // Which triangle holds the point: its barycentrics in each.
                 let inside = |t: usize| {
                     let [a, b, c] = mesh.vertices(t);
@@ -189,20 +193,20 @@ mod tests {
     #[test]
     fn other_meshes_are_not_parallelograms() {
         let mut m = rect(Mat4::IDENTITY, false);
-        assert!(Parallelogram::of(&m).is_some());
+        assert!(Parallelogram::of(&m, 1.0).is_some());
         m.positions[3].x += 1e-3; // a trapezoid
-        assert!(Parallelogram::of(&m).is_none());
+        assert!(Parallelogram::of(&m, 1.0).is_none());
         let mut m = rect(Mat4::IDENTITY, false);
         m.indices[1] = [3, 1, 0]; // the other diagonal, triangles overlapping
-        assert!(Parallelogram::of(&m).is_none());
+        assert!(Parallelogram::of(&m, 1.0).is_none());
         let mut m = rect(Mat4::IDENTITY, false);
         m.indices[1] = [2, 0, 3]; // the second triangle wound the other way
-        assert!(Parallelogram::of(&m).is_none());
+        assert!(Parallelogram::of(&m, 1.0).is_none());
         let mut m = rect(Mat4::IDENTITY, false);
         m.indices.push([0, 1, 3]);
-        assert!(Parallelogram::of(&m).is_none());
+        assert!(Parallelogram::of(&m, 1.0).is_none());
         let mut m = rect(Mat4::IDENTITY, false);
         m.normals = vec![-Vec3::Z; 4]; // vertex normals: they pick the front side
-        assert!(Parallelogram::of(&m).is_none());
+        assert!(Parallelogram::of(&m, 1.0).is_none());
     }
 }
