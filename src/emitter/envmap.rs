@@ -20,6 +20,7 @@
 //! non-zero wherever the interpolated map is. In solid angle, pdf = pdf_uv / (2π² sin θ).
 
 use crate::math::distribution::Distribution1D;
+use crate::math::float;
 use crate::math::portable;
 use crate::math::turns::{acos_half_turns, azimuth_turns, sin_cos_turns};
 use crate::spectrum::curve::Dense;
@@ -190,10 +191,10 @@ impl EnvMap {
         let (w, h) = (self.width, self.height);
         // Column centres at (i + ½)/W; rows at j/(H − 1).
         let x = uv.x * w as f32 - 0.5;
-        let x0 = x.floor();
+        let x0 = float::floor(x);
         let fx = x - x0;
-        let i0 = (x0 as i64).rem_euclid(w as i64) as usize;
-        let i1 = (i0 + 1) % w;
+        let i0 = float::wrap_index(x0 as i64, w);
+        let i1 = if i0 + 1 == w { 0 } else { i0 + 1 };
         let y = uv.y * (h - 1) as f32;
         let j0 = (y.max(0.0) as usize).min(h - 2);
         let fy = y - j0 as f32;
@@ -270,7 +271,7 @@ impl EnvMap {
     #[inline]
     fn cell_coords(&self, uv: Vec2) -> (f32, f32, usize) {
         let x = uv.x - 0.5 / self.width as f32;
-        let x = x - x.floor();
+        let x = x - float::floor(x);
         let rows = self.height - 1;
         let j = ((uv.y * rows as f32) as usize).min(rows - 1);
         (uv.y, x, j)

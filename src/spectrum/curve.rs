@@ -179,7 +179,8 @@ impl Curve {
         Curve::Blackbody(Blackbody::new(kelvin, 1.0))
     }
 
-    /// A curve through (nm, value) samples: `Dense` when the spacing is even, else `Irregular`.
+    /// A curve through (nm, value) samples: `Dense` when the spacing is even or the knots lie on
+    /// an even grid (`knots::on_common_grid`), else `Irregular`.
     /// `nm` must be strictly increasing with at least one sample (the config checks).
     pub fn from_samples(nm: &[f64], values: &[f64]) -> Curve {
         assert_eq!(nm.len(), values.len());
@@ -196,6 +197,12 @@ impl Curve {
                 start: nm[0] as f32,
                 inv_step: (1.0 / step) as f32,
                 values: values.iter().map(|&v| v as f32).collect(),
+            })
+        } else if let Some((step, grid)) = super::knots::on_common_grid(nm, values) {
+            Curve::Dense(Dense {
+                start: nm[0] as f32,
+                inv_step: (1.0 / step) as f32,
+                values: grid.iter().map(|&v| v as f32).collect(),
             })
         } else {
             Curve::Irregular {

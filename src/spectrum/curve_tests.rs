@@ -10,10 +10,54 @@ fn tabulated_forms_interpolate() {
     assert!((even.eval_one(450.0) - 0.5).abs() < 1e-6);
     assert!((even.eval_one(600.0) - 0.5).abs() < 1e-6);
     assert_eq!(even.eval_one(399.0), 0.0);
-    let uneven = Curve::from_samples(&[400.0, 410.0, 600.0], &[0.0, 1.0, 0.0]);
+    // Knots off any common grid of their smallest interval (10.5 nm).
+    let uneven = Curve::from_samples(&[400.0, 410.5, 600.0], &[0.0, 1.0, 0.0]);
     assert!(matches!(uneven, Curve::Irregular { .. }));
-    assert!((uneven.eval_one(505.0) - 0.5).abs() < 1e-5);
+    assert!((uneven.eval_one(505.25) - 0.5).abs() < 1e-5);
     assert_eq!(uneven.support(), Some((400.0, 600.0)));
+}
+
+/// Knots on a common grid (a table padded with far knots, as the reflectance library pads its
+/// 10 nm tables, and one with a half-step interval) make a `Dense` curve through the same
+/// points: equal to the `Irregular` curve at the knots, within 10⁻⁵ between them, 0 outside.
+/// (A dense lookup places λ on the grid in f32, (λ − start) · (1/step) with the reciprocal
+/// rounded: up to ~10⁻⁵ of a cell off at 80 cells out, times these tables' slope of ≤ 1 per
+/// cell; measured reflectances carry 3–4 digits.) Knots off the grid, or a grid finer than
+/// `MAX_GRID` points, stay `Irregular`.
+#[test]
+fn knots_on_a_common_grid_make_a_dense_curve() {
+    let padded: Vec<f64> = [300.0]
+        .into_iter()
+        .chain((0..36).map(|i| 380.0 + 10.0 * i as f64))
+        .chain([1130.0])
+        .collect();
+    let halves = vec![400.0, 400.5, 401.0, 420.0, 700.0];
+    for nm in [padded, halves] {
+        let values: Vec<f64> = (0..nm.len())
+            .map(|i| 0.05 + (i * 7 % 11) as f64 / 12.0)
+            .collect();
+        let c = Curve::from_samples(&nm, &values);
+        assert!(matches!(c, Curve::Dense(_)), "{nm:?} is on a grid");
+        let irregular = Curve::Irregular {
+            nm: Knots::new(nm.iter().map(|&v| v as f32).collect()),
+            values: values.iter().map(|&v| v as f32).collect(),
+        };
+        for (&l, &v) in nm.iter().zip(&values) {
+            assert_eq!(c.eval_one(l as f32), v as f32, "knot {l}");
+        }
+        let (lo, hi) = (nm[0] as f32, nm[nm.len() - 1] as f32);
+        for k in 0..=4000 {
+            let l = lo - 5.0 + (hi - lo + 10.0) * k as f32 / 4000.0;
+            let (a, b) = (c.eval_one(l), irregular.eval_one(l));
+            assert!((a - b).abs() <= 1e-5, "{l} nm: {a} against {b}");
+        }
+        assert_eq!(c.support(), irregular.support());
+    }
+    let fine = Curve::from_samples(&[400.0, 400.01, 700.0], &[0.0, 1.0, 0.0]);
+    assert!(
+        matches!(fine, Curve::Irregular { .. }),
+        "30,000 grid points"
+    );
 }
 
 #[test]

@@ -77,6 +77,51 @@ impl Knots {
     }
 }
 
+/// The most samples `on_common_grid` makes of a table (4 bytes each).
+const MAX_GRID: usize = 1 << 13;
+
+/// The table (`nm` strictly increasing) sampled at even steps, if every knot lies on the grid
+/// of its smallest interval (within 10⁻⁶ of a step) and that grid has at most `MAX_GRID`
+/// points: `(step, values)` from `nm[0]`, each grid point linearly interpolated between the
+/// knots around it (in f64) and the knots' own values kept. The same piecewise-linear curve, so
+/// it can be a `Dense` one, looked up in SIMD without a search: a reflectance table padded with
+/// far knots (ColorChecker from 300 nm, 10 nm steps, out to 1130 nm) was an `Irregular`
+/// curve looked up one lane at a time, 4.7% of the tabletop dataset's frames.
+pub fn on_common_grid(nm: &[f64], values: &[f64]) -> Option<(f64, Vec<f64>)> {
+    let step = nm
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    if !(step.is_finite() && step > 0.0) {
+        return None;
+    }
+    let position = |w: f64| (w - nm[0]) / step;
+    let last = position(nm[nm.len() - 1]).round();
+    if last.is_nan()
+        || last >= MAX_GRID as f64
+        || nm
+            .iter()
+            .any(|&w| (position(w) - position(w).round()).abs() > 1e-6)
+    {
+        return None;
+    }
+    let mut grid = Vec::with_capacity(last as usize + 1);
+    let mut j = 0;
+    for k in 0..=last as usize {
+        // The knot interval [j, j + 1] that holds grid point k.
+        while j + 2 < nm.len() && position(nm[j + 1]).round() as usize <= k {
+            j += 1;
+        }
+        let (k0, k1) = (position(nm[j]).round(), position(nm[j + 1]).round());
+        grid.push(match k as f64 {
+            k if k == k0 => values[j],
+            k if k == k1 => values[j + 1],
+            k => values[j] + (k - k0) / (k1 - k0) * (values[j + 1] - values[j]),
+        });
+    }
+    Some((step, grid))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

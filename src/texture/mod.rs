@@ -5,6 +5,7 @@
 //! Texture space as Mitsuba 3: (u, v) = (0, 0) is the image's first (top) row and first column;
 //! `uv_scale` and `uv_offset` map surface uv to texture space (uv · scale + offset).
 
+use crate::math::float;
 use crate::spectrum::rgb2spec::Sigmoid;
 use crate::spectrum::{Curve, Spectrum, Wavelengths};
 use glam::Vec2;
@@ -94,7 +95,7 @@ impl<T: Copy> Grid<T> {
             }
             TexFilter::Bilinear => {
                 let (x, y) = (p.x * w - 0.5, p.y * h - 0.5);
-                let (x0, y0) = (x.floor(), y.floor());
+                let (x0, y0) = (float::floor(x), float::floor(y));
                 let (fx, fy) = (x - x0, y - y0);
                 [
                     (self.texels[self.index(x0, y0)], (1.0 - fx) * (1.0 - fy)),
@@ -109,9 +110,13 @@ impl<T: Copy> Grid<T> {
     #[inline]
     fn index(&self, x: f32, y: f32) -> usize {
         let wrap = |v: f32, n: usize, mode: Wrap| -> usize {
-            let i = if v.is_finite() { v.floor() as i64 } else { 0 };
+            let i = if v.is_finite() {
+                float::floor(v) as i64
+            } else {
+                0
+            };
             match mode {
-                Wrap::Repeat => i.rem_euclid(n as i64) as usize,
+                Wrap::Repeat => float::wrap_index(i, n),
                 Wrap::Clamp => i.clamp(0, n as i64 - 1) as usize,
             }
         };
@@ -275,7 +280,7 @@ impl FloatTexture {
 
 #[inline]
 fn checker(p: Vec2) -> bool {
-    (p.x - p.x.floor() > 0.5) == (p.y - p.y.floor() > 0.5)
+    (p.x - float::floor(p.x) > 0.5) == (p.y - float::floor(p.y) > 0.5)
 }
 
 #[cfg(test)]
