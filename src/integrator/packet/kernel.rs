@@ -270,34 +270,30 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
                     continue;
                 };
                 let (ray, path, wl, sampler) =
-                    (&lane.ray, &mut lane.path, &lane.wl, &mut lane.sampler);
+                    (&mut lane.ray, &mut lane.path, &lane.wl, &mut lane.sampler);
                 // A glossy vertex continuing the chain leaves its emitter samples of the light
                 // tracer's sources to it.
                 let skip = match lane.chain {
                     Some(_) if lane.glossy && lane.depth >= 2 => caustics,
                     _ => None,
                 };
-                let next = match (&lane.bsdf, diffuse_pass) {
+                let goes_on = match (&lane.bsdf, diffuse_pass) {
                     (Bsdf::Diffuse(d), true) => {
-                        path.scatter::<false>(d, si, -ray.d, scene, wl, sampler, skip)
+                        path.scatter::<false>(d, si, ray, scene, wl, sampler, skip)
                     }
                     (Bsdf::Mixture(m), false) => {
-                        path.scatter::<false>(m, si, -ray.d, scene, wl, sampler, skip)
+                        path.scatter::<false>(m, si, ray, scene, wl, sampler, skip)
                     }
                     _ => continue,
                 };
-                match next {
-                    Some(r) => {
-                        lane.ray = r;
-                        if caustics.is_some() {
-                            lane.chain = match (lane.depth, lane.chain) {
-                                (1, _) if !path.prev_delta && !lane.glossy => Some(0),
-                                (2.., Some(k)) if path.prev_delta || lane.glossy => Some(k + 1),
-                                _ => None,
-                            };
-                        }
-                    }
-                    None => lane.finish::<SQ>(sensor, clamp, &mut out.counts),
+                if !goes_on {
+                    lane.finish::<SQ>(sensor, clamp, &mut out.counts);
+                } else if caustics.is_some() {
+                    lane.chain = match (lane.depth, lane.chain) {
+                        (1, _) if !path.prev_delta && !lane.glossy => Some(0),
+                        (2.., Some(k)) if path.prev_delta || lane.glossy => Some(k + 1),
+                        _ => None,
+                    };
                 }
             }
         }
