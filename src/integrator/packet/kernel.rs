@@ -228,8 +228,10 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
             }
         }
 
-        // Emission at the hit (or from the environment on a miss); the BSDF at the hit.
-        for (lane, hit) in lanes.iter_mut().zip(hits.iter()) {
+        // Emission at the hit (or from the environment on a miss); the BSDF at the hit. The
+        // lanes that go on to scatter are listed by kind of BSDF (`Scatter`).
+        let mut scatter = Scatter::<W>::default();
+        for (i, (lane, hit)) in lanes.iter_mut().zip(hits.iter()).enumerate() {
             if !lane.busy {
                 continue;
             }
@@ -261,12 +263,14 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
             let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
             material.fill_bsdf(si, si.frame.to_local(-ray.d), wl, &mut lane.bsdf);
             lane.glossy = caustics.is_some_and(|c| lane.bsdf.glossy(c.max_roughness()));
+            scatter.push(i, matches!(lane.bsdf, Bsdf::Mixture(_)));
         }
 
         // Scatter: one pass per kind of BSDF, each over the lanes holding that kind.
-        for diffuse_pass in [true, false] {
-            for (lane, hit) in lanes.iter_mut().zip(hits.iter()) {
-                let (true, Some(si)) = (lane.busy, hit) else {
+        for (kind, listed) in scatter.kinds() {
+            let diffuse_pass = kind == 0;
+            for &i in listed {
+                let (lane, Some(si)) = (&mut lanes[i as usize], &hits[i as usize]) else {
                     continue;
                 };
                 let (ray, path, wl, sampler) =
@@ -298,21 +302,57 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
             }
         }
 
-        // Russian roulette, then the next bounce.
-        for (lane, hit) in lanes.iter_mut().zip(hits.iter()) {
-            let (true, Some(_)) = (lane.busy, hit) else {
-                continue;
-            };
-            if lane.depth >= settings.path.rr_depth {
-                let path = &mut lane.path;
-                let q = (path.beta.max_value() * path.lane_w * path.eta * path.eta).min(0.95);
-                if lane.sampler.next_1d() >= q {
-                    lane.finish::<SQ>(sensor, clamp, &mut out.counts);
+        // Russian roulette, then the next bounce, for the lanes that scattered and go on.
+        for (_, listed) in scatter.kinds() {
+            for &i in listed {
+                let lane = &mut lanes[i as usize];
+                if !lane.busy {
                     continue;
                 }
-                lane.path.beta /= q;
+                if lane.depth >= settings.path.rr_depth {
+                    let path = &mut lane.path;
+                    let q = (path.beta.max_value() * path.lane_w * path.eta * path.eta).min(0.95);
+                    if lane.sampler.next_1d() >= q {
+                        lane.finish::<SQ>(sensor, clamp, &mut out.counts);
+                        continue;
+                    }
+                    lane.path.beta /= q;
+                }
+                lane.depth += 1;
             }
-            lane.depth += 1;
         }
+    }
+}
+
+/// The lanes that scatter at this bounce, listed by kind of BSDF (0: diffuse, 1: mixture), in
+/// lane order. Each pass then runs over its own lanes, where a pass over all of them took a
+/// branch on the kind at every lane, mispredicted where the kinds mix; lanes are independent,
+/// so the order of the passes changes no bit. Filled without a branch on the kind.
+struct Scatter<const W: usize> {
+    lanes: [[u8; W]; 2],
+    len: [usize; 2],
+}
+
+impl<const W: usize> Default for Scatter<W> {
+    fn default() -> Self {
+        Scatter {
+            lanes: [[0; W]; 2],
+            len: [0; 2],
+        }
+    }
+}
+
+impl<const W: usize> Scatter<W> {
+    #[inline(always)]
+    fn push(&mut self, lane: usize, mixture: bool) {
+        let k = mixture as usize;
+        self.lanes[k][self.len[k]] = lane as u8;
+        self.len[k] += 1;
+    }
+
+    /// (kind, its lanes) for both kinds.
+    #[inline(always)]
+    fn kinds(&self) -> impl Iterator<Item = (usize, &[u8])> {
+        (0..2).map(|k| (k, &self.lanes[k][..self.len[k]]))
     }
 }
