@@ -50,11 +50,8 @@ impl SurfaceInteraction {
     /// `spawn`, written into `out` (see `Path::scatter`).
     #[inline]
     pub fn spawn_into(&self, d: Vec3, out: &mut Ray) {
-        let r = ray::spawn(self.p, self.p_error, self.ng, d);
-        out.o = r.o;
-        out.d = r.d;
-        out.t_max = r.t_max;
-        out.time = self.time;
+        let r = self.spawn(d);
+        (out.o, out.d, out.t_max, out.time) = (r.o, r.d, r.t_max, r.time);
     }
 
     /// A shadow ray to `target` (on a surface with normal `target_n`, or a free point).

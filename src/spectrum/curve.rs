@@ -192,23 +192,21 @@ impl Curve {
             .iter()
             .enumerate()
             .all(|(i, &w)| (w - (nm[0] + i as f64 * step)).abs() < 1e-6 * step.max(1.0));
-        if even {
-            Curve::Dense(Dense {
-                start: nm[0] as f32,
-                inv_step: (1.0 / step) as f32,
-                values: values.iter().map(|&v| v as f32).collect(),
-            })
-        } else if let Some((step, grid)) = super::knots::on_common_grid(nm, values) {
-            Curve::Dense(Dense {
+        let grid = if even {
+            Some((step, values.to_vec()))
+        } else {
+            super::knots::on_common_grid(nm, values)
+        };
+        match grid {
+            Some((step, grid)) => Curve::Dense(Dense {
                 start: nm[0] as f32,
                 inv_step: (1.0 / step) as f32,
                 values: grid.iter().map(|&v| v as f32).collect(),
-            })
-        } else {
-            Curve::Irregular {
+            }),
+            None => Curve::Irregular {
                 nm: Knots::new(nm.iter().map(|&v| v as f32).collect()),
                 values: values.iter().map(|&v| v as f32).collect(),
-            }
+            },
         }
     }
 

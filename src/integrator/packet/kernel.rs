@@ -267,9 +267,8 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
         }
 
         // Scatter: one pass per kind of BSDF, each over the lanes holding that kind.
-        for (kind, listed) in scatter.kinds() {
-            let diffuse_pass = kind == 0;
-            for &i in listed {
+        for kind in 0..2 {
+            for &i in scatter.list(kind) {
                 let (lane, Some(si)) = (&mut lanes[i as usize], &hits[i as usize]) else {
                     continue;
                 };
@@ -281,14 +280,10 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
                     Some(_) if lane.glossy && lane.depth >= 2 => caustics,
                     _ => None,
                 };
-                let goes_on = match (&lane.bsdf, diffuse_pass) {
-                    (Bsdf::Diffuse(d), true) => {
-                        path.scatter::<false>(d, si, ray, scene, wl, sampler, skip)
-                    }
-                    (Bsdf::Mixture(m), false) => {
-                        path.scatter::<false>(m, si, ray, scene, wl, sampler, skip)
-                    }
-                    _ => continue,
+                // The list's kind: this match takes the same arm all through a list.
+                let goes_on = match &lane.bsdf {
+                    Bsdf::Diffuse(d) => path.scatter::<false>(d, si, ray, scene, wl, sampler, skip),
+                    Bsdf::Mixture(m) => path.scatter::<false>(m, si, ray, scene, wl, sampler, skip),
                 };
                 if !goes_on {
                     lane.finish::<SQ>(sensor, clamp, &mut out.counts);
@@ -303,8 +298,8 @@ fn run<const N: usize, const W: usize, const SQ: bool, const C: bool, P: Pass>(
         }
 
         // Russian roulette, then the next bounce, for the lanes that scattered and go on.
-        for (_, listed) in scatter.kinds() {
-            for &i in listed {
+        for kind in 0..2 {
+            for &i in scatter.list(kind) {
                 let lane = &mut lanes[i as usize];
                 if !lane.busy {
                     continue;
@@ -350,9 +345,9 @@ impl<const W: usize> Scatter<W> {
         self.len[k] += 1;
     }
 
-    /// (kind, its lanes) for both kinds.
+    /// The lanes of kind `k`.
     #[inline(always)]
-    fn kinds(&self) -> impl Iterator<Item = (usize, &[u8])> {
-        (0..2).map(|k| (k, &self.lanes[k][..self.len[k]]))
+    fn list(&self, k: usize) -> &[u8] {
+        &self.lanes[k][..self.len[k]]
     }
 }
